@@ -1,0 +1,1 @@
+"""trikecert: lateral stability certification of delta tricycle taxis."""

@@ -1,0 +1,1 @@
+"""Officers and administrators: accounts, roles and passwords."""

@@ -1,0 +1,100 @@
+"""Loading cases and the Lateral Stability Factor, computed exactly (paper eq. 30-31, Table 4)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from decimal import Decimal
+from fractions import Fraction
+
+from app.stability.errors import StabilityError
+from app.stability.model import (
+    Assessment,
+    AssessmentInput,
+    AveragedReadings,
+    LoadingCase,
+    Rules,
+    WheelReadings,
+)
+from app.stability.validation import (
+    check_geometry,
+    check_measured_occupants,
+    check_readings,
+    check_sum_tolerance,
+    fmt_kg,
+)
+
+
+def mean(values: Sequence[Decimal]) -> Fraction:
+    """The exact arithmetic mean of repeated readings."""
+    return sum((Fraction(v) for v in values), Fraction(0)) / len(values)
+
+
+def average_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "readings") -> AveragedReadings:
+    """Validate and average one weighing's readings, checking the wheel sum against the overall weight."""
+    check_readings(readings, rules, prefix=prefix)
+    overall = mean(readings.overall_kg) if readings.overall_kg else None
+    averaged = AveragedReadings(
+        front_kg=mean(readings.front_kg),
+        left_rear_kg=mean(readings.left_rear_kg),
+        right_rear_kg=mean(readings.right_rear_kg),
+        overall_kg=overall,
+        spread_kg={
+            wheel: Fraction(max(values) - min(values))
+            for wheel in ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
+            if (values := readings.values(wheel))  # type: ignore[arg-type]
+        },
+    )
+    if overall is not None:
+        check_sum_tolerance(averaged.wheel_sum_kg, overall, rules, prefix=prefix)
+    return averaged
+
+
+def assess(data: AssessmentInput, rules: Rules | None = None) -> Assessment:
+    """Compute every cumulative loading case (empty, driver, driver + 1, ...) and the verdict."""
+    rules = rules or Rules()
+    check_geometry(data, rules)
+    check_measured_occupants(data)
+    base = average_readings(data.readings, rules)
+    mass = data.occupant_mass_kg if data.occupant_mass_kg is not None else rules.occupant_mass_kg
+    wheelbase = Fraction(data.wheelbase_m)
+
+    total = base.total_kg
+    rear = base.rear_kg
+    for item in data.load_items:
+        total += Fraction(item.mass_kg)
+        rear += Fraction(item.mass_kg) * Fraction(item.x_m) / wheelbase
+
+    measured = {m.occupants: m for m in data.measured_cases}
+    cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "occupants.seats")]
+    for index, seat in enumerate(data.seats):
+        occupants = index + 1
+        # Moments about the front contact point: an occupant at x adds m*x/WB to the rear axle.
+        total += Fraction(mass)
+        rear += Fraction(mass) * Fraction(seat.x_m) / wheelbase
+        if occupants in measured:
+            prefix = f"measured_cases[{data.measured_cases.index(measured[occupants])}].readings"
+            weighed = average_readings(measured[occupants].readings, rules, prefix=prefix)
+            case = LoadingCase(occupants, weighed.total_kg, weighed.rear_kg, measured=True)
+            cases.append(_checked(case, prefix))
+        else:
+            cases.append(_checked(LoadingCase(occupants, total, rear), f"occupants.seats[{index}].x_m"))
+    return Assessment(readings=base, wheelbase_m=data.wheelbase_m, occupant_mass_kg=mass, cases=tuple(cases))
+
+
+def _checked(case: LoadingCase, field: str) -> LoadingCase:
+    """Refuse a loading case that would lift the front wheel or the rear wheels off the ground."""
+    if case.front_kg <= 0:
+        raise StabilityError(
+            field,
+            "front_wheel_lift",
+            f"{field}: with {case.occupants} occupant(s) the front wheel would carry "
+            f"{fmt_kg(case.front_kg)} kg and lift off the ground; check the seat positions and readings",
+        )
+    if case.rear_kg <= 0:
+        raise StabilityError(
+            field,
+            "rear_wheel_lift",
+            f"{field}: with {case.occupants} occupant(s) the rear wheels would carry "
+            f"{fmt_kg(case.rear_kg)} kg and lift off the ground; check the seat positions and readings",
+        )
+    return case

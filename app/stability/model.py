@@ -1,0 +1,176 @@
+"""Value objects of the stability core: readings, seats, rules, loading cases, assessments."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
+from typing import Literal
+
+# The study's standard: the vehicle understeers (is laterally stable) when LSF < 2/3.
+LSF_LIMIT = Fraction(2, 3)
+
+Wheel = Literal["front_kg", "left_rear_kg", "right_rear_kg", "overall_kg"]
+WHEELS: tuple[Wheel, ...] = ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
+SeatRole = Literal["driver", "passenger"]
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The settings in force for one assessment: occupant mass, sum tolerance and plausibility bounds."""
+
+    occupant_mass_kg: Decimal = Decimal("72")
+    sum_tolerance: Decimal = Decimal("0.01")  # allowed |a+b+c - W| as a fraction of W
+    max_wheel_kg: Decimal = Decimal("1500")
+    max_overall_kg: Decimal = Decimal("3000")
+    min_wheelbase_m: Decimal = Decimal("1.0")
+    max_wheelbase_m: Decimal = Decimal("4.0")
+    min_occupant_mass_kg: Decimal = Decimal("20")
+    max_occupant_mass_kg: Decimal = Decimal("250")
+    max_load_item_kg: Decimal = Decimal("1000")
+    max_readings_per_wheel: int = 20
+    max_seats: int = 12
+    seat_reach_m: Decimal = Decimal("1.0")  # how far a seat may sit outside the wheelbase span
+    max_reading_decimals: int = 3
+    max_distance_decimals: int = 4
+
+
+@dataclass(frozen=True)
+class WheelReadings:
+    """Raw weighbridge readings of one weighing, each wheel read one or more times (kg)."""
+
+    front_kg: tuple[Decimal, ...]
+    left_rear_kg: tuple[Decimal, ...]
+    right_rear_kg: tuple[Decimal, ...]
+    overall_kg: tuple[Decimal, ...] = ()
+
+    def values(self, wheel: Wheel) -> tuple[Decimal, ...]:
+        """The raw readings of one wheel (or of the overall weight)."""
+        result: tuple[Decimal, ...] = getattr(self, wheel)
+        return result
+
+
+@dataclass(frozen=True)
+class Seat:
+    """A seated occupant position, `x_m` metres behind the front wheel centre."""
+
+    role: SeatRole
+    x_m: Decimal
+
+
+@dataclass(frozen=True)
+class LoadItem:
+    """An extra mass carried in every loading case (luggage, cargo, a fitted tank)."""
+
+    mass_kg: Decimal
+    x_m: Decimal
+    label: str = "load"
+
+
+@dataclass(frozen=True)
+class MeasuredCase:
+    """A loading case weighed directly with `occupants` persons (or ballast) aboard."""
+
+    occupants: int
+    readings: WheelReadings
+
+
+@dataclass(frozen=True)
+class AssessmentInput:
+    """Everything one assessment needs: the empty-vehicle readings, geometry and occupants."""
+
+    readings: WheelReadings
+    wheelbase_m: Decimal
+    seats: tuple[Seat, ...]
+    load_items: tuple[LoadItem, ...] = ()
+    measured_cases: tuple[MeasuredCase, ...] = ()
+    occupant_mass_kg: Decimal | None = None  # None: the rules' standard occupant mass
+
+
+@dataclass(frozen=True)
+class AveragedReadings:
+    """The mean of each wheel's readings, and the overall weight used (exact)."""
+
+    front_kg: Fraction
+    left_rear_kg: Fraction
+    right_rear_kg: Fraction
+    overall_kg: Fraction | None
+    spread_kg: dict[str, Fraction] = field(default_factory=dict)
+
+    @property
+    def rear_kg(self) -> Fraction:
+        """Load on the two rear wheels, b + c."""
+        return self.left_rear_kg + self.right_rear_kg
+
+    @property
+    def wheel_sum_kg(self) -> Fraction:
+        """a + b + c."""
+        return self.front_kg + self.left_rear_kg + self.right_rear_kg
+
+    @property
+    def total_kg(self) -> Fraction:
+        """The vehicle's weight: the overall reading when taken, else the wheel sum."""
+        return self.overall_kg if self.overall_kg is not None else self.wheel_sum_kg
+
+
+@dataclass(frozen=True)
+class LoadingCase:
+    """One row of the study's Table 4, in exact arithmetic."""
+
+    occupants: int
+    total_kg: Fraction
+    rear_kg: Fraction
+    measured: bool = False
+
+    @property
+    def front_kg(self) -> Fraction:
+        """Load on the front wheel."""
+        return self.total_kg - self.rear_kg
+
+    @property
+    def lsf(self) -> Fraction:
+        """Lateral Stability Factor: the share of the weight on the rear wheels."""
+        return self.rear_kg / self.total_kg
+
+    @property
+    def variance(self) -> Fraction:
+        """2/3 - LSF: positive is margin, negative is excess."""
+        return LSF_LIMIT - self.lsf
+
+    @property
+    def compliant(self) -> bool:
+        """C when LSF < 2/3 strictly; exactly 2/3 is NC."""
+        return self.lsf < LSF_LIMIT
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """The outcome of one inspection: every loading case and the overall verdict."""
+
+    readings: AveragedReadings
+    wheelbase_m: Decimal
+    occupant_mass_kg: Decimal
+    cases: tuple[LoadingCase, ...]
+
+    @property
+    def compliant(self) -> bool:
+        """Compliant only if every loading case complies, as the study recommends."""
+        return all(case.compliant for case in self.cases)
+
+    @property
+    def max_compliant_occupants(self) -> int:
+        """Largest k such that the cases with 1..k occupants all comply; 0 if the driver alone fails."""
+        best = 0
+        for case in self.cases:
+            if case.occupants == 0:
+                continue
+            if not case.compliant:
+                break
+            best = case.occupants
+        return best
+
+    @property
+    def cg_from_front_m(self) -> Fraction:
+        """The empty vehicle's centre of gravity behind the front wheel centre, WB * R / W."""
+        empty = self.cases[0]
+        return Fraction(self.wheelbase_m) * empty.rear_kg / empty.total_kg

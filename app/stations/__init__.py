@@ -1,0 +1,1 @@
+"""Weighbridge stations and their API credentials."""

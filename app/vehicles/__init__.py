@@ -1,0 +1,1 @@
+"""Registered tricycles and their seat layouts."""
