@@ -7,6 +7,7 @@ from app.stability.errors import StabilityError
 from app.stability.lsf import assess
 from app.stability.model import (
     LSF_LIMIT,
+    RULES_VERSION,
     Assessment,
     AssessmentInput,
     LoadingCase,
@@ -15,10 +16,12 @@ from app.stability.model import (
     Rules,
     Seat,
     WheelReadings,
+    case_label,
 )
 
 __all__ = [
     "LSF_LIMIT",
+    "RULES_VERSION",
     "Assessment",
     "AssessmentInput",
     "LoadItem",
@@ -29,4 +32,5 @@ __all__ = [
     "StabilityError",
     "WheelReadings",
     "assess",
+    "case_label",
 ]

@@ -58,6 +58,9 @@ def assess(data: AssessmentInput, rules: Rules | None = None) -> Assessment:
     mass = data.occupant_mass_kg if data.occupant_mass_kg is not None else rules.occupant_mass_kg
     wheelbase = Fraction(data.wheelbase_m)
 
+    # The empty case can lift a wheel from the readings alone (W well below b + c) or from the load
+    # items; name whichever is responsible, never the seats, which carry nobody in this case.
+    _checked(LoadingCase(occupants=0, total_kg=base.total_kg, rear_kg=base.rear_kg), "readings")
     total = base.total_kg
     rear = base.rear_kg
     for item in data.load_items:
@@ -65,7 +68,7 @@ def assess(data: AssessmentInput, rules: Rules | None = None) -> Assessment:
         rear += Fraction(item.mass_kg) * Fraction(item.x_m) / wheelbase
 
     measured = {m.occupants: m for m in data.measured_cases}
-    cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "occupants.seats")]
+    cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "load_items")]
     for index, seat in enumerate(data.seats):
         occupants = index + 1
         # Moments about the front contact point: an occupant at x adds m*x/WB to the rear axle.

@@ -174,3 +174,17 @@ class Assessment:
         """The empty vehicle's centre of gravity behind the front wheel centre, WB * R / W."""
         empty = self.cases[0]
         return Fraction(self.wheelbase_m) * empty.rear_kg / empty.total_kg
+
+
+# Stored with every inspection, so a later change of the rules never rewrites a past result.
+RULES_VERSION = "lsf<2/3:cumulative-cases:v1"
+
+
+def case_label(occupants: int) -> str:
+    """The study's name of a loading case: None, Driver, Driver + 1 passenger, ..."""
+    if occupants == 0:
+        return "None"
+    if occupants == 1:
+        return "Driver"
+    passengers = occupants - 1
+    return f"Driver + {passengers} passenger{'s' if passengers > 1 else ''}"

@@ -7,7 +7,7 @@ from decimal import Decimal
 from fractions import Fraction
 
 from app.stability.errors import StabilityError
-from app.stability.model import WHEELS, AssessmentInput, Rules, WheelReadings
+from app.stability.model import WHEELS, AssessmentInput, Rules, Seat, WheelReadings
 
 WHEEL_WORDS = {
     "front_kg": "front wheel reaction",
@@ -98,64 +98,52 @@ def check_sum_tolerance(
         )
 
 
+def check_wheelbase(wheelbase_m: Decimal, rules: Rules) -> None:
+    """Refuse a wheelbase outside the plausible range."""
+    check_number(
+        wheelbase_m, field="wheelbase_m", minimum=rules.min_wheelbase_m,
+        maximum=rules.max_wheelbase_m, decimals=rules.max_distance_decimals,
+        what="wheelbase", unit="m", inclusive_minimum=True,
+    )
+
+
 def check_geometry(data: AssessmentInput, rules: Rules) -> None:
     """Refuse an implausible wheelbase, occupant mass, seat layout or load item."""
-    check_number(
-        data.wheelbase_m,
-        field="wheelbase_m",
-        minimum=rules.min_wheelbase_m,
-        maximum=rules.max_wheelbase_m,
-        decimals=rules.max_distance_decimals,
-        what="wheelbase",
-        unit="m",
-        inclusive_minimum=True,
-    )
+    check_wheelbase(data.wheelbase_m, rules)
     if data.occupant_mass_kg is not None:
         check_number(
-            data.occupant_mass_kg,
-            field="occupants.mass_kg",
-            minimum=rules.min_occupant_mass_kg,
-            maximum=rules.max_occupant_mass_kg,
-            decimals=rules.max_reading_decimals,
-            what="standard occupant mass",
-            unit="kg",
-            inclusive_minimum=True,
+            data.occupant_mass_kg, field="occupants.mass_kg", minimum=rules.min_occupant_mass_kg,
+            maximum=rules.max_occupant_mass_kg, decimals=rules.max_reading_decimals,
+            what="standard occupant mass", unit="kg", inclusive_minimum=True,
         )
-    check_seats(data, rules)
+    check_seat_layout(data.seats, data.wheelbase_m, rules)
     for index, item in enumerate(data.load_items):
         check_number(
-            item.mass_kg,
-            field=f"load_items[{index}].mass_kg",
-            minimum=Decimal(0),
-            maximum=rules.max_load_item_kg,
-            decimals=rules.max_reading_decimals,
-            what="load item mass",
-            unit="kg",
+            item.mass_kg, field=f"load_items[{index}].mass_kg", minimum=Decimal(0),
+            maximum=rules.max_load_item_kg, decimals=rules.max_reading_decimals,
+            what="load item mass", unit="kg",
         )
         check_position(item.x_m, data.wheelbase_m, rules, field=f"load_items[{index}].x_m")
 
 
-def check_seats(data: AssessmentInput, rules: Rules) -> None:
+def check_seat_layout(
+    seats: Sequence[Seat], wheelbase_m: Decimal, rules: Rules, *, prefix: str = "occupants.seats"
+) -> None:
     """Refuse a seat layout without the driver first, with too many seats or seats out of reach."""
-    seats: Sequence[object] = data.seats
     if not seats:
-        raise StabilityError(
-            "occupants.seats", "required", "occupants.seats: give at least the driver's seat"
-        )
+        raise StabilityError(prefix, "required", f"{prefix}: give at least the driver's seat")
     if len(seats) > rules.max_seats:
-        raise StabilityError(
-            "occupants.seats", "too_many", f"occupants.seats: at most {rules.max_seats} seats are accepted"
-        )
-    for index, seat in enumerate(data.seats):
+        raise StabilityError(prefix, "too_many", f"{prefix}: at most {rules.max_seats} seats are accepted")
+    for index, seat in enumerate(seats):
         expected = "driver" if index == 0 else "passenger"
         if seat.role != expected:
             raise StabilityError(
-                f"occupants.seats[{index}].role",
+                f"{prefix}[{index}].role",
                 "driver_first",
-                f"occupants.seats[{index}].role: the first seat must be the driver's and every "
+                f"{prefix}[{index}].role: the first seat must be the driver's and every "
                 f"other seat a passenger's; got {seat.role!r}",
             )
-        check_position(seat.x_m, data.wheelbase_m, rules, field=f"occupants.seats[{index}].x_m")
+        check_position(seat.x_m, wheelbase_m, rules, field=f"{prefix}[{index}].x_m")
 
 
 def check_position(x_m: Decimal, wheelbase_m: Decimal, rules: Rules, *, field: str) -> None:

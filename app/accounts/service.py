@@ -1,0 +1,60 @@
+"""Create officer and admin accounts; passwords are kept only as Argon2 hashes."""
+
+from __future__ import annotations
+
+import re
+
+from argon2 import PasswordHasher
+from argon2.exceptions import InvalidHashError, VerificationError
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session
+
+from app.accounts.models import User
+from app.errors import Conflict, InvalidInput
+
+ROLES = ("officer", "admin")
+MIN_PASSWORD_LENGTH = 10
+_EMAIL = re.compile(r"^[^@\s]+@[^@\s]+\.[^@\s]+$")
+_hasher = PasswordHasher()
+
+
+def hash_password(password: str) -> str:
+    """An Argon2id hash of the password."""
+    return _hasher.hash(password)
+
+
+def verify_password(password_hash: str, password: str) -> bool:
+    """True when the password matches the stored hash."""
+    try:
+        return _hasher.verify(password_hash, password)
+    except (VerificationError, InvalidHashError):
+        return False
+
+
+def normalise_email(email: str) -> str:
+    """Emails are matched case-insensitively."""
+    return email.strip().lower()
+
+
+def check_password_rules(password: str) -> None:
+    """Refuse a password that is too short."""
+    if len(password) < MIN_PASSWORD_LENGTH:
+        raise InvalidInput(
+            f"password: use at least {MIN_PASSWORD_LENGTH} characters", field="password", rule="min_length"
+        )
+
+
+def create_user(session: Session, *, email: str, password: str, role: str) -> User:
+    """Store a new account; the email must be new and the role officer or admin."""
+    email = normalise_email(email)
+    if not _EMAIL.match(email) or len(email) > 254:
+        raise InvalidInput("email: enter an email address like name@example.org", field="email", rule="format")
+    if role not in ROLES:
+        raise InvalidInput("role: choose officer or admin", field="role", rule="choice")
+    check_password_rules(password)
+    if session.scalar(select(User.id).where(func.lower(User.email) == email)) is not None:
+        raise Conflict(f"email: an account for {email} already exists", field="email", rule="unique")
+    user = User(email=email, password_hash=hash_password(password), role=role)
+    session.add(user)
+    session.commit()
+    return user

@@ -1,0 +1,10 @@
+"""The station API under /api/v1."""
+
+from fastapi import APIRouter
+
+from app.inspections.api import router as inspections_router
+from app.vehicles.api import router as vehicles_router
+
+api_router = APIRouter(prefix="/api/v1")
+api_router.include_router(vehicles_router)
+api_router.include_router(inspections_router)

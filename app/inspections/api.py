@@ -1,0 +1,174 @@
+"""Station API for inspections: submit readings and get Table 4 back at once; list and read them."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from decimal import Decimal
+from typing import Annotated
+
+from fastapi import APIRouter, Query, status
+
+from app.api.errors import error_responses
+from app.config import get_settings
+from app.inspections.models import Inspection
+from app.inspections.schemas import (
+    AveragedReadingsOut,
+    InspectionIn,
+    InspectionOut,
+    InspectionPage,
+    InspectionSummary,
+    LoadingCaseOut,
+    ReadingsIn,
+    SettingsOut,
+)
+from app.inspections.service import (
+    InspectionFilter,
+    InspectionRequest,
+    get_inspection,
+    list_inspections,
+    record_inspection,
+)
+from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
+from app.stations.deps import SessionDep, StationDep
+
+router = APIRouter(prefix="/inspections", tags=["inspections"])
+
+
+def wheel_readings(body: ReadingsIn) -> WheelReadings:
+    """The core's readings from the API's."""
+    return WheelReadings(
+        front_kg=tuple(body.front_kg),
+        left_rear_kg=tuple(body.left_rear_kg),
+        right_rear_kg=tuple(body.right_rear_kg),
+        overall_kg=tuple(body.overall_kg or ()),
+    )
+
+
+def inspection_request(body: InspectionIn) -> InspectionRequest:
+    """The service's request from the API body."""
+    occupants = body.occupants
+    return InspectionRequest(
+        registration_number=body.registration_number,
+        readings=wheel_readings(body.readings),
+        wheelbase_m=body.wheelbase_m,
+        occupant_mass_kg=occupants.mass_kg if occupants else None,
+        seats=tuple(Seat(s.role, s.x_m) for s in occupants.seats) if occupants and occupants.seats else None,
+        load_items=tuple(LoadItem(i.mass_kg, i.x_m, i.label) for i in body.load_items),
+        measured_cases=tuple(MeasuredCase(m.occupants, wheel_readings(m.readings)) for m in body.measured_cases),
+    )
+
+
+def _f(value: Decimal, places: int) -> float:
+    return float(round(value, places))
+
+
+def inspection_summary(inspection: Inspection) -> InspectionSummary:
+    """The list view of a stored inspection."""
+    return InspectionSummary(
+        id=inspection.id,
+        registration_number=inspection.vehicle.registration_number,
+        station=inspection.station.name if inspection.station else None,
+        created_at=inspection.created_at,
+        compliant=inspection.compliant,
+        max_compliant_occupants=inspection.max_compliant_occupants,
+    )
+
+
+def inspection_out(inspection: Inspection) -> InspectionOut:
+    """The full API view of a stored inspection, figures rounded for display, verdicts as stored."""
+    raw: dict[str, list[float]] = {}
+    for reading in inspection.readings:
+        if reading.case_occupants == 0:
+            raw.setdefault(reading.wheel, []).append(float(reading.value_kg))
+    empty = inspection.loading_cases[0]
+    config = inspection.occupant_config
+    return InspectionOut(
+        **inspection_summary(inspection).model_dump(),
+        vehicle_id=inspection.vehicle_id,
+        wheelbase_m=float(inspection.wheelbase_m),
+        readings=AveragedReadingsOut(
+            front_kg=_f(inspection.front_kg, 3),
+            left_rear_kg=_f(inspection.left_rear_kg, 3),
+            right_rear_kg=_f(inspection.right_rear_kg, 3),
+            overall_kg=_f(inspection.overall_kg, 3) if inspection.overall_kg is not None else None,
+            rear_kg=_f(inspection.left_rear_kg + inspection.right_rear_kg, 3),
+            total_kg=_f(empty.total_kg, 3),
+        ),
+        raw_readings=raw,
+        seats=[{"role": s["role"], "x_m": float(s["x_m"])} for s in config["seats"]],
+        load_items=[
+            {"label": i["label"], "mass_kg": float(i["mass_kg"]), "x_m": float(i["x_m"])}
+            for i in config["load_items"]
+        ],
+        settings=SettingsOut(
+            occupant_mass_kg=float(inspection.occupant_mass_kg),
+            sum_tolerance=float(inspection.sum_tolerance),
+            rules_version=inspection.rules_version,
+        ),
+        cg_from_front_m=_f(inspection.cg_from_front_m, 4),
+        loading_cases=[
+            LoadingCaseOut(
+                occupants=case.occupants,
+                label=case_label(case.occupants),
+                total_kg=_f(case.total_kg, 2),
+                rear_kg=_f(case.rear_kg, 2),
+                lsf=_f(case.lsf, 4),
+                variance=_f(case.variance, 4),
+                compliant=case.compliant,
+                measured=case.measured,
+            )
+            for case in inspection.loading_cases
+        ],
+    )
+
+
+@router.post(
+    "",
+    status_code=status.HTTP_201_CREATED,
+    response_model=InspectionOut,
+    responses=error_responses(400, 401, 404, 413, 422),
+    summary="Submit weighbridge readings; answers with Table 4 and the verdict",
+)
+def create_inspection(body: InspectionIn, session: SessionDep, station: StationDep) -> InspectionOut:
+    """Assess and store one weighing. Without `occupants` the vehicle's seats and the standard mass are used."""
+    inspection = record_inspection(
+        session, request=inspection_request(body), rules=get_settings().rules(), station=station
+    )
+    return inspection_out(inspection)
+
+
+@router.get(
+    "/{inspection_id}",
+    response_model=InspectionOut,
+    responses=error_responses(401, 404, 422),
+    summary="Read a stored inspection",
+)
+def read_inspection(inspection_id: int, session: SessionDep, _station: StationDep) -> InspectionOut:
+    """The inspection as decided when it was stored."""
+    return inspection_out(get_inspection(session, inspection_id))
+
+
+@router.get(
+    "",
+    response_model=InspectionPage,
+    responses=error_responses(401, 422),
+    summary="List inspections, newest first",
+)
+def index_inspections(
+    session: SessionDep,
+    _station: StationDep,
+    registration_number: Annotated[str | None, Query(max_length=32)] = None,
+    compliant: bool | None = None,
+    since: Annotated[datetime | None, Query(description="Only inspections at or after this time (ISO 8601).")] = None,
+    until: Annotated[datetime | None, Query(description="Only inspections before this time (ISO 8601).")] = None,
+    limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    offset: Annotated[int, Query(ge=0, le=10_000_000)] = 0,
+) -> InspectionPage:
+    """Filter by registration (normalised), verdict and time; paginate with limit and offset."""
+    items, total = list_inspections(
+        session,
+        where=InspectionFilter(registration_number, compliant, None, since, until),
+        limit=limit,
+        offset=offset,
+    )
+    return InspectionPage(items=[inspection_summary(i) for i in items], total=total, limit=limit, offset=offset)

@@ -1,0 +1,143 @@
+"""API shapes of inspections: readings and occupants in, Table 4 and the verdict out."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from app.numbers import (
+    LIMITS,
+    LoadKilograms,
+    OccupantKilograms,
+    OverallReading,
+    Position,
+    Wheelbase,
+    WheelReading,
+)
+from app.vehicles.schemas import SeatIn
+
+STUDY_EXAMPLE = {
+    "registration_number": "BDG 252 QH",
+    "readings": {"front_kg": [108, 108, 108], "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359},
+}
+
+
+class ReadingsIn(BaseModel):
+    """One weighing: each wheel (and optionally the whole vehicle) read once or several times, in kg."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    front_kg: WheelReading
+    left_rear_kg: WheelReading
+    right_rear_kg: WheelReading
+    overall_kg: OverallReading | None = None
+
+
+class OccupantsIn(BaseModel):
+    """The occupant configuration; each part left out is taken from the vehicle and the settings."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    mass_kg: OccupantKilograms | None = Field(default=None, description="Standard occupant mass (kg).")
+    seats: list[SeatIn] | None = Field(default=None, min_length=1, max_length=LIMITS.max_seats)
+
+
+class LoadItemIn(BaseModel):
+    """Extra mass carried in every loading case, `x_m` metres behind the front wheel centre."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    label: str = Field(default="load", min_length=1, max_length=60)
+    mass_kg: LoadKilograms
+    x_m: Position
+
+
+class MeasuredCaseIn(BaseModel):
+    """A loading case weighed directly with `occupants` persons (or ballast) aboard."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    occupants: int = Field(ge=1, le=LIMITS.max_seats)
+    readings: ReadingsIn
+
+
+class InspectionIn(BaseModel):
+    """A weighbridge submission for a registered vehicle."""
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [STUDY_EXAMPLE]})
+
+    registration_number: str = Field(min_length=1, max_length=32)
+    readings: ReadingsIn
+    wheelbase_m: Wheelbase | None = None
+    occupants: OccupantsIn | None = None
+    load_items: list[LoadItemIn] = Field(default_factory=list, max_length=10)
+    measured_cases: list[MeasuredCaseIn] = Field(default_factory=list, max_length=LIMITS.max_seats)
+
+
+class LoadingCaseOut(BaseModel):
+    """One row of Table 4; `compliant` is decided on the exact values, the figures are rounded."""
+
+    occupants: int
+    label: str
+    total_kg: float
+    rear_kg: float
+    lsf: float
+    variance: float
+    compliant: bool
+    measured: bool
+
+
+class AveragedReadingsOut(BaseModel):
+    """The mean of each wheel's readings (kg) and the weight the cases start from."""
+
+    front_kg: float
+    left_rear_kg: float
+    right_rear_kg: float
+    overall_kg: float | None
+    rear_kg: float
+    total_kg: float
+
+
+class SettingsOut(BaseModel):
+    """The rules and settings in force when the inspection was decided."""
+
+    occupant_mass_kg: float
+    sum_tolerance: float
+    lsf_limit: Literal["2/3"] = "2/3"
+    rules_version: str
+
+
+class InspectionSummary(BaseModel):
+    """An inspection in a list."""
+
+    id: int
+    registration_number: str
+    station: str | None
+    created_at: datetime
+    compliant: bool
+    max_compliant_occupants: int
+
+
+class InspectionOut(InspectionSummary):
+    """A stored inspection: the inputs as received and Table 4 as decided."""
+
+    vehicle_id: int
+    wheelbase_m: float
+    readings: AveragedReadingsOut
+    raw_readings: dict[str, list[float]]
+    seats: list[dict[str, float | str]]
+    load_items: list[dict[str, float | str]]
+    settings: SettingsOut
+    cg_from_front_m: float
+    loading_cases: list[LoadingCaseOut]
+
+
+class InspectionPage(BaseModel):
+    """One page of inspections, newest first."""
+
+    items: list[InspectionSummary]
+    total: int
+    limit: int
+    offset: int

@@ -1,0 +1,180 @@
+"""Record an inspection: assess it with the pure core and store every reading and case for good."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from datetime import datetime
+from decimal import ROUND_HALF_EVEN, Decimal
+from fractions import Fraction
+
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session
+
+from app.errors import InvalidInput, NotFound
+from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.stability import (
+    RULES_VERSION,
+    Assessment,
+    AssessmentInput,
+    LoadItem,
+    MeasuredCase,
+    Rules,
+    Seat,
+    StabilityError,
+    WheelReadings,
+    assess,
+)
+from app.stability.model import WHEELS
+from app.stations.models import Station
+from app.vehicles.models import Vehicle
+from app.vehicles.service import get_vehicle, normalise_registration
+
+
+@dataclass(frozen=True)
+class InspectionRequest:
+    """What a door (API, form, CLI) hands the service: raw readings and optional overrides."""
+
+    registration_number: str
+    readings: WheelReadings
+    wheelbase_m: Decimal | None = None
+    occupant_mass_kg: Decimal | None = None
+    seats: tuple[Seat, ...] | None = None
+    load_items: tuple[LoadItem, ...] = ()
+    measured_cases: tuple[MeasuredCase, ...] = field(default_factory=tuple)
+
+
+def quantize(value: Fraction, places: int) -> Decimal:
+    """An exact fraction rounded half-even to `places` decimals, for storage and display only."""
+    exponent = Decimal(1).scaleb(-places)
+    return (Decimal(value.numerator) / Decimal(value.denominator)).quantize(exponent, ROUND_HALF_EVEN)
+
+
+def build_input(vehicle: Vehicle, request: InspectionRequest) -> AssessmentInput:
+    """The pure core's input, filling what the request leaves out from the vehicle's record."""
+    return AssessmentInput(
+        readings=request.readings,
+        wheelbase_m=request.wheelbase_m if request.wheelbase_m is not None else vehicle.wheelbase_m,
+        seats=request.seats or tuple(Seat(s.role, s.x_m) for s in vehicle.seats),  # type: ignore[arg-type]
+        load_items=request.load_items,
+        measured_cases=request.measured_cases,
+        occupant_mass_kg=request.occupant_mass_kg,
+    )
+
+
+def assess_input(data: AssessmentInput, rules: Rules) -> Assessment:
+    """Run the pure core, turning its refusal into a 422 that names the field."""
+    try:
+        return assess(data, rules)
+    except StabilityError as error:
+        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
+
+
+def record_inspection(
+    session: Session,
+    *,
+    request: InspectionRequest,
+    rules: Rules,
+    station: Station | None = None,
+    user_id: int | None = None,
+) -> Inspection:
+    """Assess and store one inspection in a single transaction; nothing is stored if it is refused."""
+    vehicle = get_vehicle(session, request.registration_number)
+    data = build_input(vehicle, request)
+    result = assess_input(data, rules)
+    inspection = Inspection(
+        vehicle=vehicle,
+        station=station,
+        user_id=user_id,
+        wheelbase_m=result.wheelbase_m,
+        occupant_mass_kg=result.occupant_mass_kg,
+        sum_tolerance=rules.sum_tolerance,
+        rules_version=RULES_VERSION,
+        occupant_config={
+            "seats": [{"role": s.role, "x_m": str(s.x_m)} for s in data.seats],
+            "load_items": [
+                {"label": i.label, "mass_kg": str(i.mass_kg), "x_m": str(i.x_m)} for i in request.load_items
+            ],
+        },
+        front_kg=quantize(result.readings.front_kg, 4),
+        left_rear_kg=quantize(result.readings.left_rear_kg, 4),
+        right_rear_kg=quantize(result.readings.right_rear_kg, 4),
+        overall_kg=quantize(result.readings.overall_kg, 4) if result.readings.overall_kg is not None else None,
+        cg_from_front_m=quantize(result.cg_from_front_m, 5),
+        compliant=result.compliant,
+        max_compliant_occupants=result.max_compliant_occupants,
+    )
+    session.add(inspection)
+    session.flush()
+    session.add_all(_reading_rows(inspection.id, 0, request.readings))
+    for measured in request.measured_cases:
+        session.add_all(_reading_rows(inspection.id, measured.occupants, measured.readings))
+    session.add_all(
+        LoadingCaseRow(
+            inspection_id=inspection.id,
+            occupants=case.occupants,
+            total_kg=quantize(case.total_kg, 6),
+            rear_kg=quantize(case.rear_kg, 6),
+            lsf=quantize(case.lsf, 8),
+            variance=quantize(case.variance, 8),
+            compliant=case.compliant,
+            measured=case.measured,
+            lsf_exact=f"{case.lsf.numerator}/{case.lsf.denominator}",
+        )
+        for case in result.cases
+    )
+    session.commit()
+    session.refresh(inspection)
+    return inspection
+
+
+def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadings) -> list[Reading]:
+    return [
+        Reading(
+            inspection_id=inspection_id, case_occupants=case_occupants, wheel=wheel, sequence=i, value_kg=value
+        )
+        for wheel in WHEELS
+        for i, value in enumerate(readings.values(wheel))
+    ]
+
+
+def get_inspection(session: Session, inspection_id: int) -> Inspection:
+    """The inspection with this id, or NotFound."""
+    inspection = session.get(Inspection, inspection_id)
+    if inspection is None:
+        raise NotFound(f"inspection {inspection_id} does not exist", field="id", rule="exists")
+    return inspection
+
+
+@dataclass(frozen=True)
+class InspectionFilter:
+    """Which inspections a list shows."""
+
+    registration_number: str | None = None
+    compliant: bool | None = None
+    station_id: int | None = None
+    since: datetime | None = None
+    until: datetime | None = None
+
+
+def list_inspections(
+    session: Session, *, where: InspectionFilter, limit: int, offset: int
+) -> tuple[Sequence[Inspection], int]:
+    """One page of inspections matching the filter, newest first, and how many match in all."""
+    query = select(Inspection)
+    if where.registration_number:
+        key = normalise_registration(where.registration_number)
+        query = query.join(Inspection.vehicle).where(Vehicle.registration_key == key)
+    if where.compliant is not None:
+        query = query.where(Inspection.compliant == where.compliant)
+    if where.station_id is not None:
+        query = query.where(Inspection.station_id == where.station_id)
+    if where.since is not None:
+        query = query.where(Inspection.created_at >= where.since)
+    if where.until is not None:
+        query = query.where(Inspection.created_at < where.until)
+    total = session.scalar(select(func.count()).select_from(query.subquery())) or 0
+    page = session.scalars(
+        query.order_by(Inspection.created_at.desc(), Inspection.id.desc()).limit(limit).offset(offset)
+    ).all()
+    return page, total

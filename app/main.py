@@ -1,0 +1,39 @@
+"""create_app(): the FastAPI application with its routers, middleware and error handlers."""
+
+from __future__ import annotations
+
+from fastapi import FastAPI
+
+from app.api.errors import install_error_handlers
+from app.api.limits import BodySizeLimit
+from app.api.router import api_router
+from app.config import get_settings
+
+DESCRIPTION = """\
+Lateral stability certification of delta tricycle taxis (keke).
+
+A weighbridge station registers a vehicle, then submits the wheel readings of one weighing.
+The answer is the study's Table 4: for every loading case (empty, driver, driver + 1, 2, 3
+passengers) the total weight, the weight on the rear wheels, the Lateral Stability Factor
+(LSF = rear / total), the variance 2/3 - LSF and the verdict. A case complies only if
+LSF < 2/3, decided in exact arithmetic.
+
+Every call needs `Authorization: Bearer <station key>`. Errors are JSON
+`{"detail": ..., "errors": [{"field", "rule", "message"}]}`.
+"""
+
+
+def create_app() -> FastAPI:
+    """Build the application from the current settings."""
+    settings = get_settings()
+    app = FastAPI(title="trikecert", version="0.1.0", description=DESCRIPTION)
+    install_error_handlers(app)
+    app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.include_router(api_router)
+
+    @app.get("/healthz", tags=["operations"], include_in_schema=False)
+    def healthz() -> dict[str, str]:
+        """The process is alive."""
+        return {"status": "ok"}
+
+    return app

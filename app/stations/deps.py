@@ -1,0 +1,40 @@
+"""The API's authentication: every call carries `Authorization: Bearer <station key>`."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import Depends, HTTPException, status
+from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+from sqlalchemy.orm import Session
+
+from app.db import get_session
+from app.stations.models import Station
+from app.stations.service import authenticate_station
+
+bearer = HTTPBearer(auto_error=False, description="The station's API key, from `trikecert create-station`.")
+SessionDep = Annotated[Session, Depends(get_session)]
+
+
+def current_station(
+    session: SessionDep,
+    credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)],
+) -> Station:
+    """The station whose key signs this request; 401 when the key is missing, unknown or disabled."""
+    if credentials is None or credentials.scheme.lower() != "bearer":
+        raise HTTPException(
+            status.HTTP_401_UNAUTHORIZED,
+            "Authorization: send the station key as `Authorization: Bearer <key>`",
+            headers={"WWW-Authenticate": "Bearer"},
+        )
+    station = authenticate_station(session, credentials.credentials)
+    if station is None:
+        raise HTTPException(
+            status.HTTP_401_UNAUTHORIZED,
+            "Authorization: the station key is not recognised or the station is disabled",
+            headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
+        )
+    return station
+
+
+StationDep = Annotated[Station, Depends(current_station)]

@@ -1,0 +1,108 @@
+"""Register and find vehicles; registration numbers are matched after normalising."""
+
+from __future__ import annotations
+
+import re
+from decimal import Decimal
+
+from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from app.errors import Conflict, InvalidInput, NotFound
+from app.stability import Rules, StabilityError
+from app.stability import Seat as StabilitySeat
+from app.stability.validation import check_seat_layout, check_wheelbase
+from app.vehicles.models import Seat, Vehicle
+
+_SEPARATORS = re.compile(r"[\s\-]+")
+
+
+def normalise_registration(registration_number: str) -> str:
+    """The lookup key of a registration: upper case, no spaces or hyphens (`bdg-252qh` -> `BDG252QH`)."""
+    return _SEPARATORS.sub("", registration_number).upper()
+
+
+def display_registration(registration_number: str) -> str:
+    """The registration as printed: upper case, single spaces."""
+    return " ".join(registration_number.replace("-", " ").split()).upper()
+
+
+def register_vehicle(
+    session: Session,
+    *,
+    registration_number: str,
+    make: str,
+    model: str,
+    wheelbase_m: Decimal,
+    seats: list[tuple[str, Decimal]],
+    model_year: int | None = None,
+    chassis_number: str | None = None,
+    rules: Rules | None = None,
+) -> Vehicle:
+    """Store a new vehicle with its seat layout; a registration already on file is a conflict."""
+    rules = rules or Rules()
+    key = normalise_registration(registration_number)
+    if not key.isalnum() or not 2 <= len(key) <= 16:
+        raise InvalidInput(
+            "registration_number: use 2 to 16 letters and digits (spaces and hyphens are ignored)",
+            field="registration_number",
+            rule="format",
+        )
+    _check_layout(wheelbase_m, seats, rules)
+    if session.scalar(select(Vehicle.id).where(Vehicle.registration_key == key)) is not None:
+        raise _duplicate(registration_number)
+    vehicle = Vehicle(
+        registration_number=display_registration(registration_number),
+        registration_key=key,
+        make=make.strip(),
+        model=model.strip(),
+        model_year=model_year,
+        chassis_number=chassis_number.strip().upper() if chassis_number else None,
+        wheelbase_m=wheelbase_m,
+        seats=[Seat(position=i, role=role, x_m=x_m) for i, (role, x_m) in enumerate(seats)],
+    )
+    session.add(vehicle)
+    try:
+        session.commit()
+    except IntegrityError as error:  # a concurrent registration of the same number won the race
+        session.rollback()
+        raise _duplicate(registration_number) from error
+    return vehicle
+
+
+def _duplicate(registration_number: str) -> Conflict:
+    return Conflict(
+        f"registration_number: {display_registration(registration_number)} is already registered",
+        field="registration_number",
+        rule="unique",
+    )
+
+
+def _check_layout(wheelbase_m: Decimal, seats: list[tuple[str, Decimal]], rules: Rules) -> None:
+    """Refuse an implausible wheelbase or a seat layout without the driver first."""
+    try:
+        check_wheelbase(wheelbase_m, rules)
+        layout = [StabilitySeat(role, x_m) for role, x_m in seats]  # type: ignore[arg-type]
+        check_seat_layout(layout, wheelbase_m, rules, prefix="seats")
+    except StabilityError as error:
+        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
+
+
+def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:
+    """The vehicle with this registration (normalised), or None."""
+    key = normalise_registration(registration_number)
+    return session.scalar(select(Vehicle).where(Vehicle.registration_key == key))
+
+
+def get_vehicle(session: Session, registration_number: str) -> Vehicle:
+    """The vehicle with this registration, or NotFound saying it is not registered."""
+    vehicle = find_vehicle(session, registration_number)
+    if vehicle is None:
+        raise NotFound(
+            f"registration_number: no vehicle {display_registration(registration_number)} is registered; "
+            "register it first with POST /api/v1/vehicles",
+            field="registration_number",
+            rule="registered",
+        )
+    return vehicle
