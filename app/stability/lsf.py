@@ -41,7 +41,7 @@ def average_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "re
         spread_kg={
             wheel: Fraction(max(values) - min(values))
             for wheel in ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
-            if (values := readings.values(wheel))  # type: ignore[arg-type]
+            if (values := readings.values(wheel))
         },
     )
     if overall is not None:

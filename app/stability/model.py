@@ -171,9 +171,8 @@ class Assessment:
 
     @property
     def cg_from_front_m(self) -> Fraction:
-        """The empty vehicle's centre of gravity behind the front wheel centre, WB * R / W."""
-        empty = self.cases[0]
-        return Fraction(self.wheelbase_m) * empty.rear_kg / empty.total_kg
+        """The vehicle's own centre of gravity behind the front wheel centre, WB * R / W (no load items)."""
+        return Fraction(self.wheelbase_m) * self.readings.rear_kg / self.readings.total_kg
 
 
 # Stored with every inspection, so a later change of the rules never rewrites a past result.

@@ -54,9 +54,15 @@ def test_exactly_two_thirds_is_not_compliant() -> None:
     [
         pytest.param("100", "100", "100", Fraction(2, 3), False, id="round-numbers-exactly-2/3-NC"),
         pytest.param("103.2", "91.3", "115.1", Fraction(2, 3), False, id="float-trap-exactly-2/3-NC"),
-        pytest.param("100.001", "100", "100", Fraction(200_000, 300_001), True, id="one-gram-lighter-rear-share-C"),
-        pytest.param("99.999", "100", "100", Fraction(200_000, 299_999), False, id="one-gram-heavier-rear-share-NC"),
-        pytest.param("103.201", "91.3", "115.1", Fraction(206_400, 309_601), True, id="float-trap-plus-one-gram-C"),
+        pytest.param(
+            "100.001", "100", "100", Fraction(200_000, 300_001), True, id="one-gram-lighter-rear-share-C"
+        ),
+        pytest.param(
+            "99.999", "100", "100", Fraction(200_000, 299_999), False, id="one-gram-heavier-rear-share-NC"
+        ),
+        pytest.param(
+            "103.201", "91.3", "115.1", Fraction(206_400, 309_601), True, id="float-trap-plus-one-gram-C"
+        ),
     ],
 )
 def test_the_verdict_at_the_boundary_is_exact(

@@ -74,7 +74,9 @@ def test_a_vehicle_compliant_in_every_case_may_carry_every_seat(balanced: Assess
     assert balanced.max_compliant_occupants == len(BALANCED.seats) == 3
 
 
-def test_the_balanced_vehicles_centre_of_gravity_is_1_4_m_behind_the_front_wheel(balanced: Assessment) -> None:
+def test_the_balanced_vehicles_centre_of_gravity_is_1_4_m_behind_the_front_wheel(
+    balanced: Assessment,
+) -> None:
     assert balanced.cg_from_front_m == Fraction(7, 5)
 
 
@@ -82,12 +84,24 @@ def test_the_balanced_vehicles_centre_of_gravity_is_1_4_m_behind_the_front_wheel
     ("occupant_mass", "rules", "mass_used", "driver_rear"),
     [
         # 210 + 72 * 0.96 / 2.4 = 210 + 28.8
-        pytest.param(None, None, Decimal("72"), Fraction("238.8"), id="no-mass-given-uses-the-standard-72-kg"),
+        pytest.param(
+            None, None, Decimal("72"), Fraction("238.8"), id="no-mass-given-uses-the-standard-72-kg"
+        ),
         # 210 + 80 * 0.96 / 2.4 = 210 + 32
-        pytest.param(None, Rules(occupant_mass_kg=Decimal("80")), Decimal("80"), Fraction(242), id="regulator-set-80-kg"),
+        pytest.param(
+            None,
+            Rules(occupant_mass_kg=Decimal("80")),
+            Decimal("80"),
+            Fraction(242),
+            id="regulator-set-80-kg",
+        ),
         # the input's own mass wins over the rules: 210 + 75 * 0.4 = 240
         pytest.param(
-            Decimal("75"), Rules(occupant_mass_kg=Decimal("80")), Decimal("75"), Fraction(240), id="input-mass-wins"
+            Decimal("75"),
+            Rules(occupant_mass_kg=Decimal("80")),
+            Decimal("75"),
+            Fraction(240),
+            id="input-mass-wins",
         ),
     ],
 )
@@ -95,7 +109,10 @@ def test_the_occupant_mass_comes_from_the_input_else_from_the_rules(
     occupant_mass: Decimal | None, rules: Rules | None, mass_used: Decimal, driver_rear: Fraction
 ) -> None:
     data = AssessmentInput(
-        readings=BALANCED.readings, wheelbase_m=BALANCED.wheelbase_m, seats=BALANCED.seats, occupant_mass_kg=occupant_mass
+        readings=BALANCED.readings,
+        wheelbase_m=BALANCED.wheelbase_m,
+        seats=BALANCED.seats,
+        occupant_mass_kg=occupant_mass,
     )
     assessment = assess(data, rules)
     assert assessment.occupant_mass_kg == mass_used
@@ -149,10 +166,16 @@ def test_the_occupant_mass_comes_from_the_input_else_from_the_rules(
     ],
 )
 def test_max_compliant_occupants_counts_the_leading_run_of_compliant_occupied_cases(
-    readings: WheelReadings, layout: tuple[Seat, ...], lsfs: list[Fraction], max_occupants: int, compliant: bool
+    readings: WheelReadings,
+    layout: tuple[Seat, ...],
+    lsfs: list[Fraction],
+    max_occupants: int,
+    compliant: bool,
 ) -> None:
     assessment = assess(
-        AssessmentInput(readings=readings, wheelbase_m=Decimal("2.000"), seats=layout, occupant_mass_kg=Decimal("72"))
+        AssessmentInput(
+            readings=readings, wheelbase_m=Decimal("2.000"), seats=layout, occupant_mass_kg=Decimal("72")
+        )
     )
     assert [case.lsf for case in assessment.cases] == lsfs
     assert [case.compliant for case in assessment.cases] == [lsf < Fraction(2, 3) for lsf in lsfs]
