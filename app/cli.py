@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import getpass
+import os
 import sys
+import tempfile
 from collections.abc import Sequence
 
 from app.config import get_settings
@@ -26,9 +28,12 @@ def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     cmd_migrate(args)
+    if args.workers > 1 and not os.environ.get("PROMETHEUS_MULTIPROC_DIR"):
+        # Workers are separate processes: they share request metrics through files in this folder.
+        os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
     uvicorn.run(
         "app.main:create_app", factory=True, host=args.host, port=args.port, workers=args.workers,
-        proxy_headers=True, log_level="info",
+        proxy_headers=True, log_level="info", access_log=False,
     )
     return 0
 

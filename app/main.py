@@ -8,6 +8,9 @@ from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.api.router import api_router
 from app.config import get_settings
+from app.ops.health import router as health_router
+from app.ops.metrics import router as metrics_router
+from app.ops.requests import RequestContext, configure_logging
 
 DESCRIPTION = """\
 Lateral stability certification of delta tricycle taxis (keke).
@@ -26,14 +29,13 @@ Every call needs `Authorization: Bearer <station key>`. Errors are JSON
 def create_app() -> FastAPI:
     """Build the application from the current settings."""
     settings = get_settings()
+    configure_logging()
     app = FastAPI(title="trikecert", version="0.1.0", description=DESCRIPTION)
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.include_router(api_router)
-
-    @app.get("/healthz", tags=["operations"], include_in_schema=False)
-    def healthz() -> dict[str, str]:
-        """The process is alive."""
-        return {"status": "ok"}
+    app.include_router(health_router)
+    app.include_router(metrics_router)
+    app.add_middleware(RequestContext)
 
     return app

@@ -1,0 +1,55 @@
+"""Health, readiness, metrics and request ids, as an operator or a load balancer sees them."""
+
+from __future__ import annotations
+
+from fastapi.testclient import TestClient
+from sqlalchemy import Engine, text
+
+from study_data import STUDY_READINGS, STUDY_VEHICLE
+
+
+
+def test_healthz_answers_ok_and_carries_a_request_id(client: TestClient) -> None:
+    response = client.get("/healthz")
+    assert response.status_code == 200
+    assert response.json() == {"status": "ok"}
+    assert len(response.headers["x-request-id"]) == 32
+
+
+def test_a_sane_request_id_from_the_caller_is_echoed_and_a_hostile_one_replaced(client: TestClient) -> None:
+    assert client.get("/healthz", headers={"X-Request-ID": "lb-1234.abc"}).headers["x-request-id"] == "lb-1234.abc"
+    replaced = client.get("/healthz", headers={"X-Request-ID": "bad id\twith spaces"}).headers["x-request-id"]
+    assert replaced != "bad id\twith spaces"
+    assert len(replaced) == 32
+
+
+def test_readyz_is_ready_when_the_database_is_migrated(client: TestClient) -> None:
+    response = client.get("/readyz")
+    assert response.status_code == 200
+    assert response.json() == {"status": "ok"}
+
+
+def test_readyz_says_503_when_migrations_are_behind(client: TestClient, engine: Engine) -> None:
+    with engine.begin() as connection:
+        (head,) = connection.execute(text("SELECT version_num FROM alembic_version")).one()
+        connection.execute(text("UPDATE alembic_version SET version_num = 'behind'"))
+    try:
+        response = client.get("/readyz")
+        assert response.status_code == 503
+        assert "migrate" in response.json()["reason"]
+    finally:
+        with engine.begin() as connection:
+            connection.execute(text("UPDATE alembic_version SET version_num = :head"), {"head": head})
+
+
+def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClient) -> None:
+    api.post("/api/v1/vehicles", json=STUDY_VEHICLE)
+    submitted = api.post("/api/v1/inspections", json={"registration_number": "BDG252QH", "readings": STUDY_READINGS})
+    assert submitted.status_code == 201
+    api.get("/healthz")
+    body = api.get("/metrics").text
+    assert 'trikecert_http_requests_total{method="GET",route="/healthz",status="200"}' in body
+    assert 'trikecert_http_requests_total{method="POST",route="/api/v1/inspections",status="201"}' in body
+    assert 'trikecert_inspections{verdict="non_compliant"} 1.0' in body
+    assert 'trikecert_inspections{verdict="compliant"} 0.0' in body
+    assert "trikecert_http_request_duration_seconds_bucket" in body
