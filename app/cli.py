@@ -24,10 +24,11 @@ def cmd_migrate(_args: argparse.Namespace) -> int:
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
-    """Apply pending migrations, then serve with uvicorn."""
+    """Apply pending migrations (unless --no-migrate), then serve with uvicorn."""
     import uvicorn
 
-    cmd_migrate(args)
+    if not args.no_migrate:
+        cmd_migrate(args)
     if args.workers > 1 and not os.environ.get("PROMETHEUS_MULTIPROC_DIR"):
         # Workers are separate processes: they share request metrics through files in this folder.
         os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
@@ -98,6 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--host", default="127.0.0.1")
     serve.add_argument("--port", type=int, default=8000)
     serve.add_argument("--workers", type=int, default=1)
+    serve.add_argument(
+        "--no-migrate", action="store_true", help="skip migrations (a separate one-shot `migrate` runs them)"
+    )
     serve.set_defaults(handler=cmd_serve)
 
     commands.add_parser("migrate", help="apply pending migrations").set_defaults(handler=cmd_migrate)

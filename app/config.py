@@ -6,10 +6,14 @@ from decimal import Decimal
 from functools import lru_cache
 from typing import Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from sqlalchemy.engine import make_url
+
 from app.stability import Rules
+
+PLACEHOLDER_SECRETS = {"", "changeme", "change-me", "password", "postgres", "secret", "placeholder", "trikecert"}
 
 
 class Settings(BaseSettings):
@@ -28,6 +32,20 @@ class Settings(BaseSettings):
     login_max_failures: int = 5
     login_lockout_minutes: int = 15
     cookie_secure: bool = False
+    # Pages show times and count "today" in this zone; everything is stored in UTC.
+    display_timezone: str = "Africa/Lagos"
+
+    @model_validator(mode="after")
+    def refuse_placeholder_secrets(self) -> Settings:
+        """Outside development and tests, a database password must be a real secret."""
+        if self.environment == "production":
+            password = make_url(self.database_url).password
+            if password is not None and (len(password) < 12 or password.lower() in PLACEHOLDER_SECRETS):
+                raise ValueError(
+                    "TRIKECERT_DATABASE_URL: the database password is a placeholder or shorter than 12 "
+                    "characters; set a real secret in production"
+                )
+        return self
 
     def rules(self) -> Rules:
         """The stability rules in force under these settings."""

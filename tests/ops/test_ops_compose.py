@@ -1,0 +1,115 @@
+"""The compose file's app, started exactly as it says (command and environment), against the local
+PostgreSQL in place of the `db` service, answers /readyz; its migration service migrates first."""
+
+from __future__ import annotations
+
+import os
+import re
+import secrets
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+from sqlalchemy import create_engine, text
+from sqlalchemy.engine import make_url
+
+ROOT = Path(__file__).resolve().parents[2]
+SERVER_URL = os.environ.get("TRIKECERT_TEST_DATABASE_URL", "")
+pytestmark = pytest.mark.skipif(
+    not SERVER_URL.startswith("postgresql"), reason="the compose stack runs on PostgreSQL: set TRIKECERT_TEST_DATABASE_URL"
+)
+_VARIABLE = re.compile(r"\$\{(\w+)(?::-([^}]*)|:\?[^}]*)?\}")
+
+
+def interpolate(value: str, env: dict[str, str]) -> str:
+    """Compose's ${VAR}, ${VAR:-default} and ${VAR:?message} substitution."""
+    return _VARIABLE.sub(lambda m: env.get(m.group(1)) or (m.group(2) or ""), value)
+
+
+def service(name: str) -> dict[str, Any]:
+    """One service of docker-compose.yml."""
+    compose = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
+    spec: dict[str, Any] = compose["services"][name]
+    return spec
+
+
+def free_port() -> int:
+    """A TCP port nobody listens on."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+@pytest.fixture
+def compose_env() -> Iterator[dict[str, str]]:
+    """The variables compose would read from .env, and a fresh database standing in for `db`."""
+    password = secrets.token_urlsafe(16)
+    name = f"trikecert_compose_{secrets.token_hex(6)}"
+    admin = create_engine(SERVER_URL, isolation_level="AUTOCOMMIT")
+    with admin.connect() as connection:
+        if connection.scalar(text("SELECT 1 FROM pg_roles WHERE rolname = 'trikecert'")) is None:
+            connection.execute(text("CREATE ROLE trikecert LOGIN"))
+        connection.execute(text(f'CREATE DATABASE "{name}" OWNER trikecert'))
+    server = make_url(SERVER_URL)
+    yield {"POSTGRES_PASSWORD": password, "TRIKECERT_WORKERS": "2", "_DB": name, "_HOST": server.host or "127.0.0.1",
+           "_PORT": str(server.port or 5432)}
+    with admin.connect() as connection:
+        connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+    admin.dispose()
+
+
+def environment_of(name: str, env: dict[str, str]) -> dict[str, str]:
+    """The service's environment as compose would set it, with `db:5432/trikecert` pointed here."""
+    result = dict(os.environ)
+    result.pop("TRIKECERT_DATABASE_URL", None)
+    for key, value in service(name)["environment"].items():
+        result[key] = interpolate(str(value), env)
+    result["TRIKECERT_DATABASE_URL"] = result["TRIKECERT_DATABASE_URL"].replace(
+        "@db:5432/trikecert", f"@{env['_HOST']}:{env['_PORT']}/{env['_DB']}"
+    )
+    result["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{result['PATH']}"
+    return result
+
+
+def command_of(name: str, env: dict[str, str]) -> list[str]:
+    """The service's command, interpolated."""
+    return [interpolate(part, env) for part in service(name)["command"]]
+
+
+def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, str]) -> None:
+    migrate = subprocess.run(
+        command_of("migrate", compose_env), env=environment_of("migrate", compose_env), cwd=ROOT,
+        capture_output=True, text=True, timeout=120, check=False,
+    )
+    assert migrate.returncode == 0, migrate.stderr
+
+    port = free_port()
+    command = [part.replace("--port 8000", f"--port {port}") for part in command_of("app", compose_env)]
+    assert f"--port {port}" in command[-1], "the compose command no longer names --port 8000"
+    app = subprocess.Popen(  # noqa: S603 - the command comes from our own compose file
+        command, env=environment_of("app", compose_env), cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT
+    )
+    try:
+        status, body = 0, ""
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and app.poll() is None:
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:  # noqa: S310
+                    status, body = response.status, response.read().decode()
+                    break
+            except (urllib.error.URLError, ConnectionError):
+                time.sleep(0.3)
+        assert app.poll() is None, app.stdout.read().decode() if app.stdout else "the app exited"
+        assert (status, body) == (200, '{"status":"ok"}')
+    finally:
+        app.terminate()
+        app.wait(timeout=30)
