@@ -16,11 +16,11 @@ REQUEST_ID_HEADER = b"x-request-id"
 _VALID_ID = re.compile(rb"^[A-Za-z0-9._-]{1,64}$")
 logger = logging.getLogger("trikecert.access")
 
-REQUESTS = Counter("trikecert_http_requests_total", "HTTP requests answered", ["method", "route", "status"])
+REQUESTS = Counter("trikecert_http_requests_total", "HTTP requests answered", ["method", "handler", "status"])
 LATENCY = Histogram(
     "trikecert_http_request_duration_seconds",
     "Time to answer an HTTP request",
-    ["method", "route"],
+    ["method", "handler"],
     buckets=(0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5, 5.0),
 )
 
@@ -81,10 +81,11 @@ class RequestContext:
             await self.app(scope, receive, send_with_id)
         finally:
             elapsed = time.perf_counter() - started
-            route = getattr(scope.get("route"), "path", "unmatched")
+            # The endpoint's function name: stable, low-cardinality, and known even for nested routers.
+            handler = getattr(scope.get("endpoint"), "__name__", "unmatched")
             method = scope.get("method", "")
-            REQUESTS.labels(method, route, str(status)).inc()
-            LATENCY.labels(method, route).observe(elapsed)
+            REQUESTS.labels(method, handler, str(status)).inc()
+            LATENCY.labels(method, handler).observe(elapsed)
             logger.info(
                 "request",
                 extra={
@@ -92,7 +93,7 @@ class RequestContext:
                         "request_id": request_id,
                         "method": method,
                         "path": scope.get("path", ""),
-                        "route": route,
+                        "handler": handler,
                         "status": status,
                         "duration_ms": round(elapsed * 1000, 2),
                     }
