@@ -48,8 +48,8 @@ def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClien
     assert submitted.status_code == 201
     api.get("/healthz")
     body = api.get("/metrics").text
-    assert 'trikecert_http_requests_total{method="GET",handler="healthz",status="200"}' in body
-    assert 'trikecert_http_requests_total{method="POST",handler="create_inspection",status="201"}' in body
+    assert 'trikecert_http_requests_total{handler="healthz",method="GET",status="200"}' in body
+    assert 'trikecert_http_requests_total{handler="create_inspection",method="POST",status="201"}' in body
     assert 'trikecert_inspections{verdict="non_compliant"} 1.0' in body
     assert 'trikecert_inspections{verdict="compliant"} 0.0' in body
     assert "trikecert_http_request_duration_seconds_bucket" in body
