@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fastapi import FastAPI
 
+import app.models  # noqa: F401  (every table known to the mapper, whichever route loads first)
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.api.router import api_router
@@ -11,6 +12,7 @@ from app.config import get_settings
 from app.ops.health import router as health_router
 from app.ops.metrics import router as metrics_router
 from app.ops.requests import RequestContext, configure_logging
+from app.web.setup import install_web
 
 DESCRIPTION = """\
 Lateral stability certification of delta tricycle taxis (keke).
@@ -36,6 +38,7 @@ def create_app() -> FastAPI:
     app.include_router(api_router)
     app.include_router(health_router)
     app.include_router(metrics_router)
+    install_web(app)  # the officer pages; after the API's error handlers
     app.add_middleware(RequestContext)
 
     return app

@@ -1,0 +1,164 @@
+"""Load benchmark: POST /api/v1/inspections vs GET /healthz on the real server, SQLite and PostgreSQL.
+
+Run by hand (needs Debian's wrk and a local PostgreSQL):  .venv/bin/python bench/load.py
+Options: --backends sqlite,postgresql --workers 2 --duration 10 --connections 32,64
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import re
+import secrets
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PG_SERVER = os.environ.get("TRIKECERT_BENCH_PG", "postgresql+psycopg://postgres@127.0.0.1:5432/test")
+VEHICLES = 20
+
+
+def free_port() -> int:
+    """A TCP port nobody listens on."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+def fresh_database(backend: str, scratch: Path) -> str:
+    """A new empty database URL for the backend."""
+    if backend == "sqlite":
+        return f"sqlite:///{scratch / 'bench.db'}"
+    from sqlalchemy import create_engine, text
+    from sqlalchemy.engine import make_url
+
+    name = f"trikecert_bench_{secrets.token_hex(4)}"
+    admin = create_engine(PG_SERVER, isolation_level="AUTOCOMMIT")
+    with admin.connect() as connection:
+        connection.execute(text(f'CREATE DATABASE "{name}"'))
+    admin.dispose()
+    return make_url(PG_SERVER).set(database=name).render_as_string(hide_password=False)
+
+
+def seed(env: dict[str, str]) -> str:
+    """Migrate, create a station and the benchmark vehicles; return the station key."""
+    code = f"""
+from decimal import Decimal
+from app.db import get_engine, get_sessionmaker
+from app.migrate import upgrade
+from app.stations.service import create_station
+from app.vehicles.service import register_vehicle
+upgrade(get_engine())
+with get_sessionmaker()() as s:
+    _, key = create_station(s, name="bench")
+    for i in range({VEHICLES}):
+        register_vehicle(s, registration_number=f"BEN {{i:04d}}", make="Bajaj", model="RE",
+            wheelbase_m=Decimal("2.000"),
+            seats=[("driver", Decimal("0.9303"))] + [("passenger", Decimal("1.6303"))] * 3)
+print(key)
+"""
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    return out.stdout.strip().splitlines()[-1]
+
+
+def wait_ready(port: int) -> None:
+    """Poll /readyz until the server answers 200."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:
+                if response.status == 200:
+                    return
+        except OSError:
+            time.sleep(0.2)
+    raise RuntimeError("server did not become ready")
+
+
+def parse_wrk(output: str) -> tuple[float, str, str, int]:
+    """Requests/s, p50, p99 and the non-2xx count from wrk --latency output."""
+    rate = float(re.search(r"Requests/sec:\s+([\d.]+)", output).group(1))  # type: ignore[union-attr]
+    p50 = re.search(r"\s50%\s+(\S+)", output).group(1)  # type: ignore[union-attr]
+    p99 = re.search(r"\s99%\s+(\S+)", output).group(1)  # type: ignore[union-attr]
+    errors = re.search(r"non-2xx/3xx: (\d+)", output)
+    non2xx = re.search(r"Non-2xx or 3xx responses: (\d+)", output)
+    bad = int(errors.group(1)) if errors else int(non2xx.group(1)) if non2xx else 0
+    return rate, p50, p99, bad
+
+
+def wrk(url: str, connections: int, duration: int, env: dict[str, str], script: str | None = None) -> str:
+    """Run wrk (2 threads) and return its output."""
+    command = ["wrk", "-t2", f"-c{connections}", f"-d{duration}s", "--latency", url]
+    if script:
+        command[1:1] = ["-s", script]
+    return subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout
+
+
+def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
+    """Start a server on the backend, run every load, and return markdown table rows."""
+    scratch = Path(tempfile.mkdtemp(prefix="trikecert-bench-"))
+    env = dict(
+        os.environ, TRIKECERT_DATABASE_URL=fresh_database(backend, scratch), TRIKECERT_ENVIRONMENT="test"
+    )
+    key = seed(env)
+    port = free_port()
+    trikecert = str(Path(sys.executable).parent / "trikecert")
+    server = subprocess.Popen(
+        [trikecert, "serve", "--port", str(port), "--workers", str(args.workers), "--no-migrate"],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    rows = []
+    try:
+        wait_ready(port)
+        wrk_env = dict(env, TRIKECERT_BENCH_KEY=key, TRIKECERT_BENCH_VEHICLES=str(VEHICLES))
+        base = f"http://127.0.0.1:{port}"
+        for connections in args.connections:
+            health = parse_wrk(wrk(f"{base}/healthz", connections, args.duration, wrk_env))
+            post = parse_wrk(
+                wrk(base, connections, args.duration, wrk_env, script=str(ROOT / "bench/post_inspection.lua"))
+            )
+            share = 100 * post[0] / health[0]
+            rows.append(
+                f"| {backend} | {connections} | {health[0]:.0f} | {health[1]} / {health[2]} | "
+                f"{post[0]:.0f} | {post[1]} / {post[2]} | {share:.1f} % | {post[3]} |"
+            )
+            print(rows[-1], flush=True)
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
+        shutil.rmtree(scratch, ignore_errors=True)
+    return rows
+
+
+def main() -> None:
+    """Parse options, run each backend, print the results table."""
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--backends", default="sqlite,postgresql")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--duration", type=int, default=10)
+    parser.add_argument("--connections", default="32,64")
+    args = parser.parse_args()
+    args.connections = [int(c) for c in args.connections.split(",")]
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
+        f"server workers: {args.workers}; wrk -t2 -d{args.duration}s on the same cores"
+    )
+    print(
+        "| backend | connections | /healthz req/s | /healthz p50 / p99 | POST req/s | POST p50 / p99 "
+        "| POST / healthz | non-2xx |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    for backend in args.backends.split(","):
+        run_backend(backend, args)
+
+
+if __name__ == "__main__":
+    main()

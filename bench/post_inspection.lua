@@ -1,0 +1,23 @@
+-- wrk script: POST realistic inspection bodies (three repeated readings per wheel, an overall
+-- weight) for a rotating set of registered vehicles, with the station key from the environment.
+local key = os.getenv("TRIKECERT_BENCH_KEY")
+local vehicles = tonumber(os.getenv("TRIKECERT_BENCH_VEHICLES") or "20")
+local counter = 0
+
+wrk.method = "POST"
+wrk.headers["Content-Type"] = "application/json"
+wrk.headers["Authorization"] = "Bearer " .. key
+
+request = function()
+  counter = counter + 1
+  local front = 108 + (counter % 5) * 0.1
+  local body = string.format(
+    '{"registration_number": "BEN %04d", "readings": {"front_kg": [%.1f, %.1f, %.1f], ' ..
+    '"left_rear_kg": [115.0, 115.2, 114.8], "right_rear_kg": [135.0, 134.8, 135.2], "overall_kg": 359}}',
+    counter % vehicles, front, front, front)
+  return wrk.format(nil, "/api/v1/inspections", nil, body)
+end
+
+done = function(summary, latency, requests)
+  io.write(string.format("non-2xx/3xx: %d\n", summary.errors.status))
+end
