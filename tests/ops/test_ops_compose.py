@@ -24,7 +24,8 @@ from sqlalchemy.engine import make_url
 ROOT = Path(__file__).resolve().parents[2]
 SERVER_URL = os.environ.get("TRIKECERT_TEST_DATABASE_URL", "")
 pytestmark = pytest.mark.skipif(
-    not SERVER_URL.startswith("postgresql"), reason="the compose stack runs on PostgreSQL: set TRIKECERT_TEST_DATABASE_URL"
+    not SERVER_URL.startswith("postgresql"),
+    reason="the compose stack runs on PostgreSQL: set TRIKECERT_TEST_DATABASE_URL",
 )
 _VARIABLE = re.compile(r"\$\{(\w+)(?::-([^}]*)|:\?[^}]*)?\}")
 
@@ -60,8 +61,13 @@ def compose_env() -> Iterator[dict[str, str]]:
             connection.execute(text("CREATE ROLE trikecert LOGIN"))
         connection.execute(text(f'CREATE DATABASE "{name}" OWNER trikecert'))
     server = make_url(SERVER_URL)
-    yield {"POSTGRES_PASSWORD": password, "TRIKECERT_WORKERS": "2", "_DB": name, "_HOST": server.host or "127.0.0.1",
-           "_PORT": str(server.port or 5432)}
+    yield {
+        "POSTGRES_PASSWORD": password,
+        "TRIKECERT_WORKERS": "2",
+        "_DB": name,
+        "_HOST": server.host or "127.0.0.1",
+        "_PORT": str(server.port or 5432),
+    }
     with admin.connect() as connection:
         connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
     admin.dispose()
@@ -87,23 +93,32 @@ def command_of(name: str, env: dict[str, str]) -> list[str]:
 
 def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, str]) -> None:
     migrate = subprocess.run(
-        command_of("migrate", compose_env), env=environment_of("migrate", compose_env), cwd=ROOT,
-        capture_output=True, text=True, timeout=120, check=False,
+        command_of("migrate", compose_env),
+        env=environment_of("migrate", compose_env),
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
     )
     assert migrate.returncode == 0, migrate.stderr
 
     port = free_port()
     command = [part.replace("--port 8000", f"--port {port}") for part in command_of("app", compose_env)]
     assert f"--port {port}" in command[-1], "the compose command no longer names --port 8000"
-    app = subprocess.Popen(  # noqa: S603 - the command comes from our own compose file
-        command, env=environment_of("app", compose_env), cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT
+    app = subprocess.Popen(
+        command,
+        env=environment_of("app", compose_env),
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
     )
     try:
         status, body = 0, ""
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and app.poll() is None:
             try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:  # noqa: S310
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:
                     status, body = response.status, response.read().decode()
                     break
             except (urllib.error.URLError, ConnectionError):

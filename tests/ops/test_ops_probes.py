@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, text
-
 from study_data import STUDY_READINGS, STUDY_VEHICLE
-
 
 
 def test_healthz_answers_ok_and_carries_a_request_id(client: TestClient) -> None:
@@ -17,7 +15,10 @@ def test_healthz_answers_ok_and_carries_a_request_id(client: TestClient) -> None
 
 
 def test_a_sane_request_id_from_the_caller_is_echoed_and_a_hostile_one_replaced(client: TestClient) -> None:
-    assert client.get("/healthz", headers={"X-Request-ID": "lb-1234.abc"}).headers["x-request-id"] == "lb-1234.abc"
+    assert (
+        client.get("/healthz", headers={"X-Request-ID": "lb-1234.abc"}).headers["x-request-id"]
+        == "lb-1234.abc"
+    )
     replaced = client.get("/healthz", headers={"X-Request-ID": "bad id\twith spaces"}).headers["x-request-id"]
     assert replaced != "bad id\twith spaces"
     assert len(replaced) == 32
@@ -44,7 +45,9 @@ def test_readyz_says_503_when_migrations_are_behind(client: TestClient, engine: 
 
 def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClient) -> None:
     api.post("/api/v1/vehicles", json=STUDY_VEHICLE)
-    submitted = api.post("/api/v1/inspections", json={"registration_number": "BDG252QH", "readings": STUDY_READINGS})
+    submitted = api.post(
+        "/api/v1/inspections", json={"registration_number": "BDG252QH", "readings": STUDY_READINGS}
+    )
     assert submitted.status_code == 201
     api.get("/healthz")
     body = api.get("/metrics").text
