@@ -1,6 +1,8 @@
 """Pydantic number types for the API: JSON numbers only (no strings, no booleans), finite, bounded.
 
-The bounds come from the stability core's default Rules, so the schema and the domain agree.
+The bounds come from the stability core's default Rules, so the schema and the domain agree. The
+schema also states the precision the core accepts (3 decimals for kg, 4 for metres) as `multipleOf`;
+JSON Schema validators test it on the number as written, as the core does on the Decimal.
 """
 
 from __future__ import annotations
@@ -9,6 +11,7 @@ from decimal import Decimal
 from typing import Annotated, Any
 
 from pydantic import BeforeValidator, Field, WithJsonSchema
+from pydantic_core import PydanticCustomError
 
 from app.stability import Rules
 
@@ -16,10 +19,24 @@ LIMITS = Rules()
 MAX_READINGS = LIMITS.max_readings_per_wheel
 
 
+def _json_kind(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true or false"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, dict):
+        return "an object"
+    if isinstance(value, list):
+        return "a list"
+    return "null" if value is None else type(value).__name__
+
+
 def number_only(value: Any) -> Any:
-    """Refuse strings and booleans where a JSON number is required."""
+    """Refuse strings, booleans, objects and null where a JSON number is required (rule `number_type`)."""
     if isinstance(value, bool) or not isinstance(value, int | float | Decimal):
-        raise ValueError("must be a JSON number")
+        raise PydanticCustomError(
+            "number_type", "enter a JSON number, not {kind}", {"kind": _json_kind(value)}
+        )
     return value
 
 
@@ -28,9 +45,14 @@ def one_or_many(value: Any) -> Any:
     return value if isinstance(value, list) else [value]
 
 
-def number_schema(minimum: Decimal, maximum: Decimal, *, exclusive: bool) -> dict[str, Any]:
-    """The JSON schema of a bounded number."""
-    return {"type": "number", "exclusiveMinimum" if exclusive else "minimum": float(minimum), "maximum": float(maximum)}
+def number_schema(minimum: Decimal, maximum: Decimal, *, exclusive: bool, decimals: int) -> dict[str, Any]:
+    """The JSON schema of a bounded number given to at most `decimals` places (as `multipleOf`)."""
+    return {
+        "type": "number",
+        "exclusiveMinimum" if exclusive else "minimum": float(minimum),
+        "maximum": float(maximum),
+        "multipleOf": float(Decimal(1).scaleb(-decimals)),
+    }
 
 
 def readings_schema(item: dict[str, Any]) -> dict[str, Any]:
@@ -41,8 +63,10 @@ def readings_schema(item: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-_WHEEL = number_schema(Decimal(0), LIMITS.max_wheel_kg, exclusive=True)
-_OVERALL = number_schema(Decimal(0), LIMITS.max_overall_kg, exclusive=True)
+KG_DECIMALS = LIMITS.max_reading_decimals
+M_DECIMALS = LIMITS.max_distance_decimals
+_WHEEL = number_schema(Decimal(0), LIMITS.max_wheel_kg, exclusive=True, decimals=KG_DECIMALS)
+_OVERALL = number_schema(Decimal(0), LIMITS.max_overall_kg, exclusive=True, decimals=KG_DECIMALS)
 
 Kilograms = Annotated[
     Decimal,
@@ -60,27 +84,34 @@ OccupantKilograms = Annotated[
     Decimal,
     BeforeValidator(number_only),
     Field(ge=LIMITS.min_occupant_mass_kg, le=LIMITS.max_occupant_mass_kg, allow_inf_nan=False),
-    WithJsonSchema(number_schema(LIMITS.min_occupant_mass_kg, LIMITS.max_occupant_mass_kg, exclusive=False)),
+    WithJsonSchema(
+        number_schema(
+            LIMITS.min_occupant_mass_kg, LIMITS.max_occupant_mass_kg, exclusive=False, decimals=KG_DECIMALS
+        )
+    ),
 ]
 LoadKilograms = Annotated[
     Decimal,
     BeforeValidator(number_only),
     Field(gt=0, le=LIMITS.max_load_item_kg, allow_inf_nan=False),
-    WithJsonSchema(number_schema(Decimal(0), LIMITS.max_load_item_kg, exclusive=True)),
+    WithJsonSchema(number_schema(Decimal(0), LIMITS.max_load_item_kg, exclusive=True, decimals=KG_DECIMALS)),
 ]
+POSITION_SCHEMA = number_schema(
+    -LIMITS.seat_reach_m, LIMITS.max_wheelbase_m + LIMITS.seat_reach_m, exclusive=False, decimals=M_DECIMALS
+)
 Position = Annotated[
     Decimal,
     BeforeValidator(number_only),
     Field(ge=-LIMITS.seat_reach_m, le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m, allow_inf_nan=False),
-    WithJsonSchema(
-        number_schema(-LIMITS.seat_reach_m, LIMITS.max_wheelbase_m + LIMITS.seat_reach_m, exclusive=False)
-    ),
+    WithJsonSchema(POSITION_SCHEMA),
 ]
 Wheelbase = Annotated[
     Decimal,
     BeforeValidator(number_only),
     Field(ge=LIMITS.min_wheelbase_m, le=LIMITS.max_wheelbase_m, allow_inf_nan=False),
-    WithJsonSchema(number_schema(LIMITS.min_wheelbase_m, LIMITS.max_wheelbase_m, exclusive=False)),
+    WithJsonSchema(
+        number_schema(LIMITS.min_wheelbase_m, LIMITS.max_wheelbase_m, exclusive=False, decimals=M_DECIMALS)
+    ),
 ]
 WheelReading = Annotated[
     list[Kilograms],

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
+from functools import lru_cache
 from typing import Any
 
 from fastapi import FastAPI, Request
@@ -34,30 +36,55 @@ def error_responses(*statuses: int) -> dict[int | str, dict[str, Any]]:
     return {status: {"model": ErrorOut} for status in statuses}
 
 
-def field_path(loc: Sequence[int | str]) -> str:
-    """('body', 'readings', 'front_kg', 0) -> 'readings.front_kg[0]'."""
+def field_path(loc: Sequence[int | str], body: Any = None) -> str:
+    """('body', 'readings', 'front_kg', 0) -> 'readings.front_kg[0]'.
+
+    A reading may be one number or a list; the API validates both as a list, so an index into a
+    value that was sent as a single number is dropped: `readings.front_kg`, not `readings.front_kg[0]`.
+    """
+    in_body = bool(loc) and loc[0] == "body"
     parts = list(loc[1:]) if loc and loc[0] in ("body", "query", "path", "header") else list(loc)
     path = ""
+    node = body if in_body else None
     for part in parts:
         if isinstance(part, int):
+            if in_body and not isinstance(node, list):
+                continue
             path += f"[{part}]"
         else:
             path += f".{part}" if path else str(part)
+        node = _child(node, part)
     return path or (str(loc[0]) if loc else "body")
 
 
-def _problem(error: dict[str, Any]) -> FieldProblemOut:
-    field = field_path(error.get("loc", ()))
+def _child(node: Any, part: int | str) -> Any:
+    if isinstance(node, dict) and isinstance(part, str):
+        return node.get(part)
+    if isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node):
+        return node[part]
+    return None
+
+
+def _problem(error: dict[str, Any], body: Any = None) -> FieldProblemOut:
+    field = field_path(error.get("loc", ()), body)
     message = str(error.get("msg", "invalid value"))
     if message.startswith("Value error, "):
         message = message.removeprefix("Value error, ")
     rule = str(error.get("type", "invalid"))
+    if rule == "extra_forbidden":
+        message = "this field is not part of the API; remove it (names are case-sensitive)"
+    if field == "body" and rule in ("missing", "model_attributes_type"):
+        message = "send one JSON object, with Content-Type: application/json"
     if rule == "json_invalid":
-        return FieldProblemOut(field="body", rule=rule, message=f"body: the request is not valid JSON ({message})")
+        return FieldProblemOut(
+            field="body", rule=rule, message=f"body: the request is not valid JSON ({message})"
+        )
     return FieldProblemOut(field=field, rule=rule, message=f"{field}: {message}")
 
 
-def _json(status: int, detail: str, problems: list[FieldProblemOut], headers: dict[str, str] | None = None) -> JSONResponse:
+def _json(
+    status: int, detail: str, problems: list[FieldProblemOut], headers: dict[str, str] | None = None
+) -> JSONResponse:
     body = ErrorOut(detail=detail, errors=problems).model_dump()
     return JSONResponse(body, status_code=status, headers=headers)
 
@@ -65,7 +92,7 @@ def _json(status: int, detail: str, problems: list[FieldProblemOut], headers: di
 async def on_validation_error(_request: Request, exc: Exception) -> JSONResponse:
     """422 naming each refused field; 400 when the body is not JSON at all."""
     assert isinstance(exc, RequestValidationError)
-    problems = [_problem(dict(e)) for e in exc.errors()]
+    problems = [_problem(dict(e), exc.body) for e in exc.errors()]
     status = 400 if any(p.rule == "json_invalid" for p in problems) else 422
     return _json(status, "; ".join(p.message for p in problems) or "invalid request", problems)
 
@@ -77,10 +104,57 @@ async def on_service_error(_request: Request, exc: Exception) -> JSONResponse:
     return _json(exc.status, exc.message, problems)
 
 
-async def on_http_error(_request: Request, exc: Exception) -> JSONResponse:
-    """Starlette's HTTP errors (401, 404 of unknown paths, 405) in the same shape."""
+# Starlette's and FastAPI's own refusals carry no field; name the part of the request they refuse.
+_HTTP_PROBLEMS: dict[int, tuple[str, str]] = {
+    400: ("body", "json_invalid"),
+    401: ("Authorization", "authentication"),
+    404: ("path", "not_found"),
+    405: ("method", "method_not_allowed"),
+}
+_PARSE_FAILURE = "There was an error parsing the body"
+_HTTP_METHODS = {"GET", "PUT", "POST", "DELETE", "OPTIONS", "HEAD", "PATCH", "TRACE"}
+
+
+def allowed_methods(request: Request) -> list[str]:
+    """The methods the OpenAPI schema documents at this request's path.
+
+    Starlette's own 405 names only the methods of the first route it tried, so a path served by
+    two routes (GET and POST /api/v1/inspections) would answer with half of the truth.
+    """
+    methods: set[str] = set()
+    for template, operations in request.app.openapi().get("paths", {}).items():
+        if _template_pattern(template).fullmatch(request.url.path):
+            methods.update(method.upper() for method in operations if method.upper() in _HTTP_METHODS)
+    return sorted(methods)
+
+
+@lru_cache(maxsize=256)
+def _template_pattern(template: str) -> re.Pattern[str]:
+    """/api/v1/vehicles/{registration_number} -> a pattern with one path segment per parameter."""
+    parts = re.split(r"(\{[^}]+\})", template)
+    return re.compile("".join("[^/]+" if part.startswith("{") else re.escape(part) for part in parts))
+
+
+async def on_http_error(request: Request, exc: Exception) -> JSONResponse:
+    """Starlette's HTTP errors (400 unparsable body, 401, 404 of unknown paths, 405) in the same shape."""
     assert isinstance(exc, StarletteHTTPException)
-    return _json(exc.status_code, str(exc.detail), [], headers=getattr(exc, "headers", None))
+    headers = dict(getattr(exc, "headers", None) or {})
+    detail = str(exc.detail)
+    if exc.status_code == 400 and detail == _PARSE_FAILURE:
+        detail = "body: the request body could not be read as UTF-8 JSON"
+    elif exc.status_code == 405:
+        starlette_allows = [m.strip() for m in headers.get("Allow", "").split(",") if m.strip()]
+        methods = allowed_methods(request) or sorted(starlette_allows)
+        if methods:
+            headers["Allow"] = ", ".join(methods)
+        detail = f"method: {request.method} is not allowed at this path; use {' or '.join(methods)}"
+    elif exc.status_code == 404 and detail == "Not Found":
+        detail = f"path: {request.url.path} does not exist; the station API lives under /api/v1"
+    problems = []
+    if exc.status_code in _HTTP_PROBLEMS:
+        field, rule = _HTTP_PROBLEMS[exc.status_code]
+        problems.append(FieldProblemOut(field=field, rule=rule, message=detail))
+    return _json(exc.status_code, detail, problems, headers=headers or None)
 
 
 def install_error_handlers(app: FastAPI) -> None:

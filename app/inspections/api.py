@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from datetime import datetime
 from decimal import Decimal
 from typing import Annotated
 
-from fastapi import APIRouter, Query, status
+from fastapi import APIRouter, Path, Query, status
 
 from app.api.errors import error_responses
+from app.api.fields import Timestamp
 from app.config import get_settings
 from app.inspections.models import Inspection
 from app.inspections.schemas import (
@@ -30,8 +30,12 @@ from app.inspections.service import (
 )
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
 from app.stations.deps import SessionDep, StationDep
+from app.vehicles.schemas import REGISTRATION_PATTERN
 
 router = APIRouter(prefix="/inspections", tags=["inspections"])
+
+# Ids are INTEGER columns: larger numbers cannot name a stored inspection on any backend.
+MAX_ID = 2**31 - 1
 
 
 def wheel_readings(body: ReadingsIn) -> WheelReadings:
@@ -54,7 +58,9 @@ def inspection_request(body: InspectionIn) -> InspectionRequest:
         occupant_mass_kg=occupants.mass_kg if occupants else None,
         seats=tuple(Seat(s.role, s.x_m) for s in occupants.seats) if occupants and occupants.seats else None,
         load_items=tuple(LoadItem(i.mass_kg, i.x_m, i.label) for i in body.load_items),
-        measured_cases=tuple(MeasuredCase(m.occupants, wheel_readings(m.readings)) for m in body.measured_cases),
+        measured_cases=tuple(
+            MeasuredCase(m.occupants, wheel_readings(m.readings)) for m in body.measured_cases
+        ),
     )
 
 
@@ -130,7 +136,7 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
     summary="Submit weighbridge readings; answers with Table 4 and the verdict",
 )
 def create_inspection(body: InspectionIn, session: SessionDep, station: StationDep) -> InspectionOut:
-    """Assess and store one weighing. Without `occupants` the vehicle's seats and the standard mass are used."""
+    """Assess and store one weighing; without `occupants` the vehicle's seats and the standard mass apply."""
     inspection = record_inspection(
         session, request=inspection_request(body), rules=get_settings().rules(), station=station
     )
@@ -143,7 +149,11 @@ def create_inspection(body: InspectionIn, session: SessionDep, station: StationD
     responses=error_responses(401, 404, 422),
     summary="Read a stored inspection",
 )
-def read_inspection(inspection_id: int, session: SessionDep, _station: StationDep) -> InspectionOut:
+def read_inspection(
+    inspection_id: Annotated[int, Path(ge=1, le=MAX_ID, description="The id answered when it was stored.")],
+    session: SessionDep,
+    _station: StationDep,
+) -> InspectionOut:
     """The inspection as decided when it was stored."""
     return inspection_out(get_inspection(session, inspection_id))
 
@@ -157,10 +167,16 @@ def read_inspection(inspection_id: int, session: SessionDep, _station: StationDe
 def index_inspections(
     session: SessionDep,
     _station: StationDep,
-    registration_number: Annotated[str | None, Query(max_length=32)] = None,
+    registration_number: Annotated[
+        str | None, Query(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN)
+    ] = None,
     compliant: bool | None = None,
-    since: Annotated[datetime | None, Query(description="Only inspections at or after this time (ISO 8601).")] = None,
-    until: Annotated[datetime | None, Query(description="Only inspections before this time (ISO 8601).")] = None,
+    since: Annotated[
+        Timestamp | None, Query(description="Only inspections at or after this time (RFC 3339, with zone).")
+    ] = None,
+    until: Annotated[
+        Timestamp | None, Query(description="Only inspections before this time (RFC 3339, with zone).")
+    ] = None,
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     offset: Annotated[int, Query(ge=0, le=10_000_000)] = 0,
 ) -> InspectionPage:
@@ -171,4 +187,5 @@ def index_inspections(
         limit=limit,
         offset=offset,
     )
-    return InspectionPage(items=[inspection_summary(i) for i in items], total=total, limit=limit, offset=offset)
+    summaries = [inspection_summary(i) for i in items]
+    return InspectionPage(items=summaries, total=total, limit=limit, offset=offset)

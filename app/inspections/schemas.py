@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from app.api.fields import text
 from app.numbers import (
     LIMITS,
     LoadKilograms,
@@ -16,9 +17,9 @@ from app.numbers import (
     Wheelbase,
     WheelReading,
 )
-from app.vehicles.schemas import SeatIn
+from app.vehicles.schemas import RegistrationNumber, SeatLayout
 
-STUDY_EXAMPLE = {
+STUDY_EXAMPLE: dict[str, Any] = {
     "registration_number": "BDG 252 QH",
     "readings": {"front_kg": [108, 108, 108], "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359},
 }
@@ -41,7 +42,7 @@ class OccupantsIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     mass_kg: OccupantKilograms | None = Field(default=None, description="Standard occupant mass (kg).")
-    seats: list[SeatIn] | None = Field(default=None, min_length=1, max_length=LIMITS.max_seats)
+    seats: SeatLayout | None = None
 
 
 class LoadItemIn(BaseModel):
@@ -49,7 +50,7 @@ class LoadItemIn(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    label: str = Field(default="load", min_length=1, max_length=60)
+    label: Annotated[str, text(60)] = "load"
     mass_kg: LoadKilograms
     x_m: Position
 
@@ -68,7 +69,7 @@ class InspectionIn(BaseModel):
 
     model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [STUDY_EXAMPLE]})
 
-    registration_number: str = Field(min_length=1, max_length=32)
+    registration_number: RegistrationNumber
     readings: ReadingsIn
     wheelbase_m: Wheelbase | None = None
     occupants: OccupantsIn | None = None

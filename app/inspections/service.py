@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from decimal import ROUND_HALF_EVEN, Decimal
@@ -67,7 +67,15 @@ def assess_input(data: AssessmentInput, rules: Rules) -> Assessment:
     try:
         return assess(data, rules)
     except StabilityError as error:
-        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
+        raise refusal(error) from error
+
+
+def refusal(error: StabilityError) -> InvalidInput:
+    """The core's refusal as a 422 whose message starts with the field's path, like every other one."""
+    message = error.message
+    if not message.startswith(f"{error.field}:"):
+        message = f"{error.field}: {message}"
+    return InvalidInput(message, field=error.field, rule=error.rule)
 
 
 def record_inspection(
@@ -77,8 +85,13 @@ def record_inspection(
     rules: Rules,
     station: Station | None = None,
     user_id: int | None = None,
+    on_stored: Callable[[Session, Inspection], None] | None = None,
 ) -> Inspection:
-    """Assess and store one inspection in a single transaction; nothing is stored if it is refused."""
+    """Assess and store one inspection in a single transaction; nothing is stored if it is refused.
+
+    `on_stored(session, inspection)` runs once the inspection has its id, before the commit, so a
+    caller can store a row of its own in the same transaction (the pages' one-time form token).
+    """
     vehicle = get_vehicle(session, request.registration_number)
     data = build_input(vehicle, request)
     result = assess_input(data, rules)
@@ -99,7 +112,7 @@ def record_inspection(
         front_kg=quantize(result.readings.front_kg, 4),
         left_rear_kg=quantize(result.readings.left_rear_kg, 4),
         right_rear_kg=quantize(result.readings.right_rear_kg, 4),
-        overall_kg=quantize(result.readings.overall_kg, 4) if result.readings.overall_kg is not None else None,
+        overall_kg=None if result.readings.overall_kg is None else quantize(result.readings.overall_kg, 4),
         cg_from_front_m=quantize(result.cg_from_front_m, 5),
         compliant=result.compliant,
         max_compliant_occupants=result.max_compliant_occupants,
@@ -123,6 +136,8 @@ def record_inspection(
         )
         for case in result.cases
     )
+    if on_stored is not None:
+        on_stored(session, inspection)
     session.commit()
     session.refresh(inspection)
     return inspection
@@ -131,7 +146,11 @@ def record_inspection(
 def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadings) -> list[Reading]:
     return [
         Reading(
-            inspection_id=inspection_id, case_occupants=case_occupants, wheel=wheel, sequence=i, value_kg=value
+            inspection_id=inspection_id,
+            case_occupants=case_occupants,
+            wheel=wheel,
+            sequence=i,
+            value_kg=value,
         )
         for wheel in WHEELS
         for i, value in enumerate(readings.values(wheel))
@@ -142,7 +161,9 @@ def get_inspection(session: Session, inspection_id: int) -> Inspection:
     """The inspection with this id, or NotFound."""
     inspection = session.get(Inspection, inspection_id)
     if inspection is None:
-        raise NotFound(f"inspection {inspection_id} does not exist", field="id", rule="exists")
+        raise NotFound(
+            f"inspection_id: inspection {inspection_id} does not exist", field="inspection_id", rule="exists"
+        )
     return inspection
 
 

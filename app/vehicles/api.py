@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, status
+from typing import Annotated
+
+from fastapi import APIRouter, Path, status
 
 from app.api.errors import error_responses
 from app.stations.deps import SessionDep, StationDep
 from app.vehicles.models import Vehicle
-from app.vehicles.schemas import SeatOut, VehicleIn, VehicleOut
+from app.vehicles.schemas import (
+    REGISTRATION_DESCRIPTION,
+    REGISTRATION_PATTERN,
+    SeatOut,
+    VehicleIn,
+    VehicleOut,
+)
 from app.vehicles.service import get_vehicle, register_vehicle
 
 router = APIRouter(prefix="/vehicles", tags=["vehicles"])
@@ -23,7 +31,7 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
         model_year=vehicle.model_year,
         chassis_number=vehicle.chassis_number,
         wheelbase_m=float(vehicle.wheelbase_m),
-        seats=[SeatOut(role=s.role, x_m=float(s.x_m)) for s in vehicle.seats],  # type: ignore[arg-type]
+        seats=[SeatOut(role=s.role, x_m=float(s.x_m)) for s in vehicle.seats],
         created_at=vehicle.created_at,
     )
 
@@ -56,6 +64,13 @@ def create_vehicle(body: VehicleIn, session: SessionDep, _station: StationDep) -
     responses=error_responses(401, 404, 422),
     summary="Find a vehicle by registration (case, spaces and hyphens ignored)",
 )
-def read_vehicle(registration_number: str, session: SessionDep, _station: StationDep) -> VehicleOut:
+def read_vehicle(
+    registration_number: Annotated[
+        str,
+        Path(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN, description=REGISTRATION_DESCRIPTION),
+    ],
+    session: SessionDep,
+    _station: StationDep,
+) -> VehicleOut:
     """The vehicle registered under this number; `bdg-252qh` finds `BDG 252 QH`."""
     return vehicle_out(get_vehicle(session, registration_number))

@@ -3,11 +3,47 @@
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
 
-from app.numbers import Position, Wheelbase
+from app.api.fields import text
+from app.numbers import LIMITS, POSITION_SCHEMA, Position, Wheelbase
+
+# 2 to 16 letters and digits, with spaces or hyphens between them that are ignored:
+# exactly the registrations the service can normalise (`bdg-252qh` and `BDG 252 QH` are one vehicle).
+REGISTRATION_PATTERN = r"^[A-Za-z0-9](?:[ \-]*[A-Za-z0-9]){1,15}$"
+REGISTRATION_DESCRIPTION = (
+    "2 to 16 letters and digits; spaces and hyphens between them are ignored, as is case "
+    "(`bdg-252qh` is `BDG 252 QH`)."
+)
+RegistrationNumber = Annotated[
+    str,
+    Field(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN, description=REGISTRATION_DESCRIPTION),
+]
+
+
+def _seat_schema(role: str) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "properties": {"role": {"const": role}, "x_m": POSITION_SCHEMA},
+        "required": ["role", "x_m"],
+        "additionalProperties": False,
+    }
+
+
+# The driver's seat first, then the passengers' (the loading cases add occupants in this order).
+SEAT_LAYOUT_SCHEMA: dict[str, Any] = {
+    "type": "array",
+    "prefixItems": [_seat_schema("driver")],
+    "items": _seat_schema("passenger"),
+    "minItems": 1,
+    "maxItems": LIMITS.max_seats,
+    "description": (
+        "The seats, driver first, each `x_m` metres behind the front wheel centre; a seat may sit at "
+        "most 1 m ahead of the front wheel or behind the rear axle (x_m <= wheelbase_m + 1)."
+    ),
+}
 
 
 class SeatIn(BaseModel):
@@ -17,6 +53,11 @@ class SeatIn(BaseModel):
 
     role: Literal["driver", "passenger"]
     x_m: Position
+
+
+SeatLayout = Annotated[
+    list[SeatIn], Field(min_length=1, max_length=LIMITS.max_seats), WithJsonSchema(SEAT_LAYOUT_SCHEMA)
+]
 
 
 class VehicleIn(BaseModel):
@@ -44,13 +85,13 @@ class VehicleIn(BaseModel):
         },
     )
 
-    registration_number: str = Field(min_length=2, max_length=32, pattern=r"^[A-Za-z0-9][A-Za-z0-9 \-]*$")
-    make: str = Field(min_length=1, max_length=80)
-    model: str = Field(min_length=1, max_length=80)
+    registration_number: RegistrationNumber
+    make: Annotated[str, text(80)]
+    model: Annotated[str, text(80)]
     model_year: int | None = Field(default=None, ge=1950, le=2100)
-    chassis_number: str | None = Field(default=None, min_length=1, max_length=64)
+    chassis_number: Annotated[str, text(64)] | None = None
     wheelbase_m: Wheelbase
-    seats: list[SeatIn] = Field(min_length=1, max_length=12)
+    seats: SeatLayout
 
 
 class VehicleOut(BaseModel):

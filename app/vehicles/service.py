@@ -50,8 +50,9 @@ def register_vehicle(
             rule="format",
         )
     _check_layout(wheelbase_m, seats, rules)
-    if session.scalar(select(Vehicle.id).where(Vehicle.registration_key == key)) is not None:
-        raise _duplicate(registration_number)
+    on_file = _registered_as(session, key)
+    if on_file is not None:
+        raise _duplicate(registration_number, on_file)
     vehicle = Vehicle(
         registration_number=display_registration(registration_number),
         registration_key=key,
@@ -67,13 +68,21 @@ def register_vehicle(
         session.commit()
     except IntegrityError as error:  # a concurrent registration of the same number won the race
         session.rollback()
-        raise _duplicate(registration_number) from error
+        raise _duplicate(registration_number, _registered_as(session, key)) from error
     return vehicle
 
 
-def _duplicate(registration_number: str) -> Conflict:
+def _registered_as(session: Session, key: str) -> str | None:
+    """The registration on file under this lookup key, as it was registered."""
+    return session.scalar(select(Vehicle.registration_number).where(Vehicle.registration_key == key))
+
+
+def _duplicate(registration_number: str, on_file: str | None) -> Conflict:
+    """`bdg-252qh` when BDG 252 QH is on file: the message names the vehicle on file."""
+    wanted = display_registration(registration_number)
+    shown = wanted if on_file in (None, wanted) else f"{wanted} (as {on_file})"
     return Conflict(
-        f"registration_number: {display_registration(registration_number)} is already registered",
+        f"registration_number: {shown} is already registered",
         field="registration_number",
         rule="unique",
     )
@@ -86,7 +95,10 @@ def _check_layout(wheelbase_m: Decimal, seats: list[tuple[str, Decimal]], rules:
         layout = [StabilitySeat(role, x_m) for role, x_m in seats]  # type: ignore[arg-type]
         check_seat_layout(layout, wheelbase_m, rules, prefix="seats")
     except StabilityError as error:
-        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
+        message = error.message
+        if not message.startswith(f"{error.field}:"):  # every API message starts with its field's path
+            message = f"{error.field}: {message}"
+        raise InvalidInput(message, field=error.field, rule=error.rule) from error
 
 
 def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:

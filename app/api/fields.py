@@ -1,0 +1,98 @@
+"""Field types of the API whose validation is exactly what their OpenAPI schema states.
+
+Pydantic's datetime is lenient (it takes `0.5` as a Unix time, a space for the `T`, a missing time
+zone) and strict where RFC 3339 is not (leap seconds, year 0). `Timestamp` accepts exactly the JSON
+Schema `date-time` format and nothing else, so the schema is the contract.
+
+`text()` is free text (makes, models, labels): not blank, and without control characters, which
+PostgreSQL cannot store (NUL) and which no make or model contains.
+"""
+
+from __future__ import annotations
+
+import re
+from datetime import UTC, datetime, timedelta
+from typing import Annotated, Any
+
+from pydantic import BeforeValidator, Field, WithJsonSchema
+from pydantic_core import PydanticCustomError
+
+# Characters Python's str.strip() removes, and control characters (C0, DEL, C1), spelt out so that the
+# pattern means the same to Pydantic (Rust regex), JSON Schema validators (ECMA 262) and Python.
+_CONTROL = r"\x00-\x1f\x7f-\x9f"
+_BLANK_OR_CONTROL = r"\x00-\x20\x7f-\xa0\u1680\u2000-\u200a\u2028\u2029\u202f\u205f\u3000"
+TEXT_PATTERN = rf"^[^{_CONTROL}]*[^{_BLANK_OR_CONTROL}][^{_CONTROL}]*$"
+
+
+def text(max_length: int, description: str | None = None) -> Any:
+    """A Field for free text of 1 to `max_length` characters: not blank, no control characters."""
+    return Field(min_length=1, max_length=max_length, pattern=TEXT_PATTERN, description=description)
+
+_RFC3339 = re.compile(
+    r"(?P<year>\d{4})-(?P<month>\d{2})-(?P<day>\d{2})[Tt]"
+    r"(?P<hour>\d{2}):(?P<minute>\d{2}):(?P<second>\d{2})(?:\.(?P<fraction>\d+))?"
+    r"(?:(?P<utc>[Zz])|(?P<sign>[+-])(?P<offset_hour>\d{2}):(?P<offset_minute>\d{2}))",
+    re.ASCII,
+)
+_EARLIEST = datetime.min.replace(tzinfo=UTC)
+_LATEST = datetime.max.replace(tzinfo=UTC)
+
+
+def _days_in_month(year: int, month: int) -> int:
+    if month == 2:
+        leap = year % 4 == 0 and (year % 100 != 0 or year % 400 == 0)
+        return 29 if leap else 28
+    return 30 if month in (4, 6, 9, 11) else 31
+
+
+def parse_timestamp(text: str) -> datetime:
+    """An RFC 3339 `date-time` as an aware UTC datetime; ValueError names what is wrong.
+
+    Year 0 and instants past year 9999 are clamped to the earliest and latest representable
+    time, and a leap second to the last microsecond before it: for a time filter that is exact.
+    """
+    match = _RFC3339.fullmatch(text)
+    if match is None:
+        raise ValueError("give an RFC 3339 date and time with a time zone, such as 2026-11-23T13:32:00Z")
+    numbers = ("year", "month", "day", "hour", "minute", "second", "offset_hour", "offset_minute")
+    part = {name: int(match[name]) for name in numbers if match[name]}
+    year, month, day = part["year"], part["month"], part["day"]
+    hour, minute, second = part["hour"], part["minute"], part["second"]
+    offset = 0
+    if match["sign"]:
+        if part["offset_hour"] > 23 or part["offset_minute"] > 59:
+            raise ValueError("the time zone offset must be between -23:59 and +23:59")
+        offset = (part["offset_hour"] * 60 + part["offset_minute"]) * (1 if match["sign"] == "+" else -1)
+    if not 1 <= month <= 12 or not 1 <= day <= _days_in_month(year, month):
+        raise ValueError(f"{text[:10]} is not a date in the calendar")
+    if hour > 23 or minute > 59 or second > 60:
+        raise ValueError(f"{text[11:19]} is not a time of day")
+    leap = second == 60
+    if leap and (hour * 60 + minute - offset) % (24 * 60) != 23 * 60 + 59:
+        raise ValueError("a leap second (:60) can only fall at 23:59:60 UTC")
+    micro = 999_999 if leap else int(((match["fraction"] or "") + "000000")[:6])
+    if year == 0:
+        return _EARLIEST
+    local = datetime(year, month, day, hour, minute, 59 if leap else second, micro)
+    try:
+        return (local - timedelta(minutes=offset)).replace(tzinfo=UTC)
+    except OverflowError:  # within a day of year 1 or year 9999 and pushed past it by the offset
+        return _EARLIEST if offset > 0 else _LATEST
+
+
+def _timestamp(value: Any) -> Any:
+    if isinstance(value, datetime):
+        return value
+    if not isinstance(value, str):
+        raise PydanticCustomError("datetime_format", "give an RFC 3339 date and time as a string")
+    try:
+        return parse_timestamp(value)
+    except ValueError as error:
+        raise PydanticCustomError("datetime_format", str(error)) from error
+
+
+Timestamp = Annotated[
+    datetime,
+    BeforeValidator(_timestamp),
+    WithJsonSchema({"type": "string", "format": "date-time"}),
+]
