@@ -6,7 +6,7 @@ from decimal import Decimal
 from functools import lru_cache
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, SecretStr, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from sqlalchemy.engine import make_url
@@ -32,8 +32,18 @@ class Settings(BaseSettings):
     login_max_failures: int = 5
     login_lockout_minutes: int = 15
     cookie_secure: bool = False
+    certificate_validity_months: int = Field(default=12, ge=1, le=120)
+    base_url: str = "http://127.0.0.1:8000"  # public address printed on certificates and in QR codes
+    issuing_authority: str = "Tricycle Lateral Stability Certification Authority"
+    signing_key: SecretStr | None = None  # Ed25519 private key: PEM, base64 of PEM, or base64 of the 32-byte seed
     # Pages show times and count "today" in this zone; everything is stored in UTC.
     display_timezone: str = "Africa/Lagos"
+    # Weighbridge stations: settling of repeated readings, scale calibration, rate limit, idempotency keys.
+    max_reading_spread_kg: Decimal = Field(default=Decimal("2"), gt=0, le=100)
+    require_calibration: bool = False  # refuse stations with no calibration on record
+    station_rate_limit: int = Field(default=120, ge=0)  # requests per station key per window; 0: off
+    station_rate_window_seconds: int = Field(default=60, ge=1, le=3600)
+    idempotency_key_hours: int = Field(default=24, ge=24, le=24 * 90)
 
     @model_validator(mode="after")
     def refuse_placeholder_secrets(self) -> Settings:

@@ -1,8 +1,9 @@
-"""Create officer and admin accounts; passwords are kept only as Argon2 hashes."""
+"""Create, list, disable and reset officer and admin accounts; passwords are kept only as Argon2 hashes."""
 
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 
 from argon2 import PasswordHasher
 from argon2.exceptions import InvalidHashError, VerificationError
@@ -10,7 +11,8 @@ from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
-from app.errors import Conflict, InvalidInput
+from app.accounts.sessions import end_user_sessions
+from app.errors import Conflict, InvalidInput, NotFound
 
 ROLES = ("officer", "admin")
 MIN_PASSWORD_LENGTH = 10
@@ -48,7 +50,9 @@ def create_user(session: Session, *, email: str, password: str, role: str) -> Us
     """Store a new account; the email must be new and the role officer or admin."""
     email = normalise_email(email)
     if not _EMAIL.match(email) or len(email) > 254:
-        raise InvalidInput("email: enter an email address like name@example.org", field="email", rule="format")
+        raise InvalidInput(
+            "email: enter an email address like name@example.org", field="email", rule="format"
+        )
     if role not in ROLES:
         raise InvalidInput("role: choose officer or admin", field="role", rule="choice")
     check_password_rules(password)
@@ -57,4 +61,35 @@ def create_user(session: Session, *, email: str, password: str, role: str) -> Us
     user = User(email=email, password_hash=hash_password(password), role=role)
     session.add(user)
     session.commit()
+    return user
+
+
+def list_users(session: Session) -> Sequence[User]:
+    """Every account, administrators first, then by email."""
+    return session.scalars(select(User).order_by(User.role, User.email)).all()
+
+
+def get_user(session: Session, user_id: int) -> User:
+    """The account with this id, or NotFound."""
+    user = session.get(User, user_id)
+    if user is None:
+        raise NotFound(f"user {user_id} does not exist", field="id", rule="exists")
+    return user
+
+
+def set_user_active(session: Session, *, user: User, active: bool) -> User:
+    """Enable or disable an account; disabling ends every session it has."""
+    user.active = active
+    session.commit()
+    if not active:
+        end_user_sessions(session, user_id=user.id)
+    return user
+
+
+def set_password(session: Session, *, user: User, password: str, keep_session_id: int | None = None) -> User:
+    """Give an account a new password and end its other sessions."""
+    check_password_rules(password)
+    user.password_hash = hash_password(password)
+    session.commit()
+    end_user_sessions(session, user_id=user.id, keep_id=keep_session_id)
     return user

@@ -1,0 +1,101 @@
+"""Administrator pages: list accounts, add one, disable or enable it, set a new password."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.service import ROLES, create_user, get_user, list_users, set_password, set_user_active
+from app.accounts.sessions import set_flash
+from app.errors import ServiceError
+from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
+from app.web.forms import FormErrors, text
+from app.web.templating import render
+
+router = APIRouter(prefix="/admin/users", include_in_schema=False)
+
+
+def _password(form: FormDep) -> str:
+    value = form.get("password")
+    return value[:1024] if isinstance(value, str) else ""
+
+
+@router.get("")
+def users_page(request: Request, session: SessionDep, login: AdminLogin) -> Response:
+    """Every account with its role and status."""
+    return render(request, "accounts/users.html", {"users": list_users(session)})
+
+
+@router.get("/new")
+def new_user_form(request: Request, login: AdminLogin) -> Response:
+    """The form to add an account."""
+    return render(request, "accounts/user_new.html", {"values": {"role": "officer"}, "roles": ROLES})
+
+
+@router.post("/new")
+def add_user(request: Request, session: SessionDep, login: AdminPost, form: FormDep) -> Response:
+    """Create the account, or show the form again with the problems."""
+    values = {"email": text(form, "email", limit=254), "role": text(form, "role", limit=16)}
+    errors = FormErrors()
+    try:
+        user = create_user(session, email=values["email"], password=_password(form), role=values["role"])
+    except ServiceError as error:
+        errors.add_problems(
+            error.problems, {"email": "email", "role": "role-officer", "password": "password"}, "email"
+        )
+        return render(
+            request,
+            "accounts/user_new.html",
+            {"values": values, "errors": errors.messages, "roles": ROLES},
+            status_code=error.status if error.status != 409 else 422,
+        )
+    set_flash(session, login, f"Account {user.email} ({user.role}) created.")
+    return RedirectResponse("/admin/users", status_code=303)
+
+
+@router.post("/{user_id}/disable")
+def disable_user(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+    """Disable an account and end its sessions (never your own)."""
+    user = get_user(session, user_id)
+    if user.id == login.user_id:
+        set_flash(session, login, "You cannot disable your own account.")
+    else:
+        set_user_active(session, user=user, active=False)
+        set_flash(session, login, f"{user.email} is disabled and has been signed out everywhere.")
+    return RedirectResponse("/admin/users", status_code=303)
+
+
+@router.post("/{user_id}/enable")
+def enable_user(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+    """Enable an account again."""
+    user = set_user_active(session, user=get_user(session, user_id), active=True)
+    set_flash(session, login, f"{user.email} can sign in again.")
+    return RedirectResponse("/admin/users", status_code=303)
+
+
+@router.get("/{user_id}/password")
+def password_form(request: Request, session: SessionDep, login: AdminLogin, user_id: int) -> Response:
+    """The form to set a new password for an account."""
+    return render(request, "accounts/user_password.html", {"account": get_user(session, user_id)})
+
+
+@router.post("/{user_id}/password")
+def reset_password(
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, user_id: int
+) -> Response:
+    """Set the new password and end the account's other sessions."""
+    user = get_user(session, user_id)
+    try:
+        set_password(session, user=user, password=_password(form), keep_session_id=login.id)
+    except ServiceError as error:
+        errors = FormErrors()
+        errors.add_problems(error.problems, {"password": "password"}, "password")
+        return render(
+            request,
+            "accounts/user_password.html",
+            {"account": user, "errors": errors.messages},
+            status_code=422,
+        )
+    set_flash(session, login, f"New password set for {user.email}; their other sessions have ended.")
+    return RedirectResponse("/admin/users", status_code=303)

@@ -1,0 +1,56 @@
+"""Sign in: check the lock-out, the password and the account, log the attempt, start a session."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session
+
+from app.accounts import throttle
+from app.accounts.models import User
+from app.accounts.service import hash_password, normalise_email, verify_password
+from app.accounts.sessions import NewSession, start_session
+from app.config import Settings
+
+# Verified against when the email is unknown, so a wrong email costs as long as a wrong password.
+_DUMMY_HASH = hash_password("not a real password, only for timing")
+
+
+@dataclass(frozen=True)
+class SignInResult:
+    """The outcome of a sign-in: a new session, or the reason it was refused."""
+
+    started: NewSession | None
+    outcome: str
+
+
+def sign_in(
+    session: Session, *, email: str, password: str, client_ip: str | None, settings: Settings
+) -> SignInResult:
+    """Start a session when the credentials are right, the account active and not locked out."""
+    email = normalise_email(email)[:254]
+    if throttle.is_locked_out(session, email=email, client_ip=client_ip, settings=settings):
+        throttle.record_attempt(
+            session, email=email, outcome=throttle.LOCKED_OUT, user_id=None, client_ip=client_ip
+        )
+        return SignInResult(started=None, outcome=throttle.LOCKED_OUT)
+    user = session.scalar(select(User).where(func.lower(User.email) == email))
+    if user is None:
+        verify_password(_DUMMY_HASH, password)
+        outcome = throttle.BAD_CREDENTIALS
+    elif not verify_password(user.password_hash, password):
+        outcome = throttle.BAD_CREDENTIALS
+    elif not user.active:
+        outcome = throttle.DISABLED
+    else:
+        throttle.record_attempt(
+            session, email=email, outcome=throttle.SUCCESS, user_id=user.id, client_ip=client_ip
+        )
+        return SignInResult(
+            started=start_session(session, user=user, settings=settings), outcome=throttle.SUCCESS
+        )
+    throttle.record_attempt(
+        session, email=email, outcome=outcome, user_id=user.id if user else None, client_ip=client_ip
+    )
+    return SignInResult(started=None, outcome=outcome)

@@ -1,0 +1,138 @@
+"""Sign in and sign out pages."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Query
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts import throttle
+from app.accounts.login import sign_in
+from app.accounts.sessions import end_session, load_session
+from app.config import get_settings
+from app.web import cookies, csrf
+from app.web.deps import FormDep, SessionDep
+from app.web.forms import FormErrors, text
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+
+REFUSALS = {
+    throttle.BAD_CREDENTIALS: (401, "Enter a correct email address and password"),
+    throttle.DISABLED: (403, "This account has been disabled. Ask an administrator to enable it"),
+}
+
+
+def safe_next(path: str | None) -> str:
+    """Only a path on this site may follow sign-in (never another host)."""
+    if not path or not path.startswith("/") or path.startswith(("//", "/\\")) or path.startswith("/login"):
+        return "/"
+    return path[:500]
+
+
+def _login_page(
+    request: Request,
+    *,
+    values: dict[str, str],
+    errors: FormErrors,
+    status_code: int,
+    next_path: str,
+    notice: str = "",
+) -> Response:
+    token, is_new = csrf.login_token(request)
+    response = render(
+        request,
+        "accounts/login.html",
+        {
+            "login_csrf": token,
+            "values": values,
+            "errors": errors.messages,
+            "next_path": next_path,
+            "notice": notice,
+        },
+        status_code=status_code,
+    )
+    if is_new:
+        cookies.write_cookie(response, request, cookies.LOGIN_CSRF, token, samesite="strict")
+    return response
+
+
+@router.get("/login")
+def login_form(
+    request: Request,
+    session: SessionDep,
+    next_path: Annotated[str | None, Query(alias="next")] = None,
+    signed_out: Annotated[str | None, Query()] = None,
+) -> Response:
+    """The sign-in form (a signed-in officer goes straight on)."""
+    token = cookies.read_cookie(request, cookies.SESSION)
+    if token and load_session(session, token=token, settings=get_settings()) is not None:
+        return RedirectResponse(safe_next(next_path), status_code=303)
+    notice = "You have signed out." if signed_out else ""
+    return _login_page(
+        request,
+        values={},
+        errors=FormErrors(),
+        status_code=200,
+        next_path=safe_next(next_path),
+        notice=notice,
+    )
+
+
+@router.post("/login")
+def login(request: Request, session: SessionDep, form: FormDep) -> Response:
+    """Check the form token and the credentials; on success a new session id, then 303 onwards."""
+    csrf.check_login_token(request, form)
+    email = text(form, "email", limit=254)
+    password = form.get("password")
+    password = password[:1024] if isinstance(password, str) else ""
+    next_path = safe_next(text(form, "next", limit=500))
+    errors = FormErrors()
+    if not email:
+        errors.add("email", "Enter your email address")
+    if not password:
+        errors.add("password", "Enter your password")
+    if errors:
+        return _login_page(
+            request, values={"email": email}, errors=errors, status_code=422, next_path=next_path
+        )
+    settings = get_settings()
+    client_ip = request.client.host if request.client else None
+    result = sign_in(session, email=email, password=password, client_ip=client_ip, settings=settings)
+    if result.started is None:
+        if result.outcome == throttle.LOCKED_OUT:
+            status, message = (
+                429,
+                (
+                    "There have been too many failed sign-ins for this account. "
+                    f"Wait {settings.login_lockout_minutes} minutes, then try again"
+                ),
+            )
+        else:
+            status, message = REFUSALS[result.outcome]
+        errors.add("email", message)
+        return _login_page(
+            request, values={"email": email}, errors=errors, status_code=status, next_path=next_path
+        )
+    previous = cookies.read_cookie(request, cookies.SESSION)
+    if previous:
+        end_session(session, token=previous)
+    response = RedirectResponse(next_path, status_code=303)
+    cookies.write_cookie(response, request, cookies.SESSION, result.started.token)
+    cookies.clear_cookie(response, request, cookies.LOGIN_CSRF)
+    return response
+
+
+@router.post("/logout")
+def logout(request: Request, session: SessionDep, form: FormDep) -> Response:
+    """End the session on the server and forget the cookie."""
+    token = cookies.read_cookie(request, cookies.SESSION)
+    record = load_session(session, token=token, settings=get_settings()) if token else None
+    if record is not None:
+        csrf.check_session_token(form, record.csrf_token)
+        end_session(session, token=token or "")
+    response = RedirectResponse("/login?signed_out=1", status_code=303)
+    cookies.clear_cookie(response, request, cookies.SESSION)
+    return response

@@ -1,0 +1,145 @@
+"""The new-inspection form: repeated readings per wheel (blanks ignored), geometry and occupants
+pre-filled from the vehicle, optional measured cases. Parsing only; every rule stays in the core."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from decimal import Decimal
+
+from starlette.datastructures import FormData
+
+from app.inspections.service import InspectionRequest
+from app.stability import MeasuredCase, Seat, WheelReadings
+from app.stability.validation import WHEEL_WORDS
+from app.vehicles.models import Vehicle
+from app.web.forms import FormErrors, parse_decimal, text
+
+READINGS_PER_WHEEL = 3
+WHEELS = ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
+
+
+def reading_id(wheel: str, index: int) -> str:
+    """The input id of one reading box: front_kg_1 ... overall_kg_3."""
+    return f"{wheel}_{index}"
+
+
+def measured_id(occupants: int, wheel: str) -> str:
+    """The input id of a measured case's reading: measured_2_front_kg."""
+    return f"measured_{occupants}_{wheel}"
+
+
+def seat_id(index: int) -> str:
+    """The input id of a seat position: seat_x_m_0 is the driver."""
+    return f"seat_x_m_{index}"
+
+
+def field_names(seat_count: int) -> list[str]:
+    """Every input of the form, in page order."""
+    names = [reading_id(w, i) for w in WHEELS for i in range(1, READINGS_PER_WHEEL + 1)]
+    names += ["wheelbase_m", "occupant_mass_kg"] + [seat_id(i) for i in range(seat_count)]
+    names += [measured_id(n, w) for n in range(1, seat_count + 1) for w in WHEELS]
+    return names
+
+
+def metres(value: Decimal) -> str:
+    """A distance as an officer writes it: 2.000, 0.9303, 1.630."""
+    text = f"{value:.4f}"
+    return text[:-1] if text.endswith("0") else text
+
+
+def initial_values(vehicle: Vehicle, occupant_mass_kg: Decimal) -> dict[str, str]:
+    """The form as first shown: geometry and occupants from the vehicle and the settings."""
+    values = dict.fromkeys(field_names(len(vehicle.seats)), "")
+    values["wheelbase_m"] = metres(vehicle.wheelbase_m)
+    values["occupant_mass_kg"] = f"{occupant_mass_kg.normalize():f}"
+    for i, seat in enumerate(vehicle.seats):
+        values[seat_id(i)] = metres(seat.x_m)
+    return values
+
+
+@dataclass
+class InspectionForm:
+    """The parsed form, its raw values to show again, its errors and where each core field lives."""
+
+    values: dict[str, str]
+    errors: FormErrors = field(default_factory=FormErrors)
+    request: InspectionRequest | None = None
+    input_for: dict[str, str] = field(default_factory=dict)
+
+
+def _number(form: InspectionForm, input_id: str, what: str, unit: str, example: str) -> Decimal | None:
+    raw = form.values[input_id]
+    value = parse_decimal(raw) if raw else None
+    if raw and value is None:
+        form.errors.add(input_id, f"Enter the {what} as a number of {unit}, like {example}")
+    return value
+
+
+def _readings(form: InspectionForm, prefix: str, ids: dict[str, list[str]]) -> WheelReadings:
+    """Readings from the given boxes per wheel; each core path is mapped to the box it came from."""
+    found: dict[str, tuple[Decimal, ...]] = {}
+    for wheel, boxes in ids.items():
+        values: list[Decimal] = []
+        used: list[str] = []
+        for box in boxes:
+            value = _number(form, box, WHEEL_WORDS[wheel], "kilograms", "108.5")
+            if value is not None:
+                values.append(value)
+                used.append(box)
+        path = f"{prefix}.{wheel}"
+        form.input_for[path] = used[0] if used else boxes[0]
+        for i, box in enumerate(used):
+            form.input_for[f"{path}[{i}]"] = box
+        found[wheel] = tuple(values)
+    form.input_for.setdefault(prefix, ids["front_kg"][0])
+    return WheelReadings(
+        found["front_kg"], found["left_rear_kg"], found["right_rear_kg"], found["overall_kg"]
+    )
+
+
+def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionForm:
+    """Parse the posted form into the service's request, or collect what could not be read."""
+    seat_count = len(vehicle.seats)
+    form = InspectionForm(values={name: text(form_data, name, limit=40) for name in field_names(seat_count)})
+    readings = _readings(
+        form, "readings", {w: [reading_id(w, i) for i in range(1, READINGS_PER_WHEEL + 1)] for w in WHEELS}
+    )
+    wheelbase = _number(form, "wheelbase_m", "wheelbase", "metres", "2.000")
+    if wheelbase is None:
+        form.errors.add("wheelbase_m", "Enter the wheelbase as a number of metres, like 2.000")
+    mass = _number(form, "occupant_mass_kg", "standard occupant mass", "kilograms", "72")
+    if mass is None:
+        form.errors.add(
+            "occupant_mass_kg", "Enter the standard occupant mass as a number of kilograms, like 72"
+        )
+    form.input_for.update({"wheelbase_m": "wheelbase_m", "occupants.mass_kg": "occupant_mass_kg"})
+
+    seats: list[Seat] = []
+    for i in range(seat_count):
+        position = _number(form, seat_id(i), "seat position", "metres", "1.630")
+        if position is None and i == 0:
+            form.errors.add(seat_id(0), "Enter the driver's seat position as a number of metres, like 0.930")
+        if position is not None:
+            form.input_for[f"occupants.seats[{len(seats)}]"] = seat_id(i)
+            seats.append(Seat("driver" if i == 0 else "passenger", position))
+    form.input_for["occupants.seats"] = seat_id(0)
+
+    measured: list[MeasuredCase] = []
+    for occupants in range(1, seat_count + 1):
+        boxes = {w: [measured_id(occupants, w)] for w in WHEELS}
+        if not any(form.values[b[0]] for b in boxes.values()):
+            continue
+        prefix = f"measured_cases[{len(measured)}]"
+        form.input_for[f"{prefix}.occupants"] = boxes["front_kg"][0]
+        measured.append(MeasuredCase(occupants, _readings(form, f"{prefix}.readings", boxes)))
+
+    if not form.errors and wheelbase is not None and mass is not None:
+        form.request = InspectionRequest(
+            registration_number=vehicle.registration_key,
+            readings=readings,
+            wheelbase_m=wheelbase,
+            occupant_mass_kg=mass,
+            seats=tuple(seats),
+            measured_cases=tuple(measured),
+        )
+    return form

@@ -1,0 +1,236 @@
+"""Inspection pages: the new-inspection form, the result (Table 4, verdict, chart) and the lists."""
+
+from __future__ import annotations
+
+from datetime import date
+from typing import Any
+
+from fastapi import APIRouter
+from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.models import User
+from app.accounts.sessions import set_flash
+from app.config import get_settings
+from app.errors import NotFound, ServiceError
+from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
+from app.inspections.models import Inspection
+from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
+from app.inspections.wording import certified_occupancy, verdict_sentence
+from app.stability import case_label
+from app.stations.models import Station
+from app.vehicles.models import Vehicle
+from app.vehicles.service import display_registration, find_vehicle
+from app.web import submissions
+from app.web.chart import ChartPoint, lsf_chart, short_label
+from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.formatting import day_bounds, local_today
+from app.web.forms import FormErrors
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+
+
+def _vehicle(session: Session, registration_key: str) -> Vehicle:
+    vehicle = find_vehicle(session, registration_key)
+    if vehicle is None:
+        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+    return vehicle
+
+
+def _form_page(
+    request: Request,
+    vehicle: Vehicle,
+    values: dict[str, str],
+    token: str,
+    errors: FormErrors,
+    status_code: int,
+) -> Response:
+    return render(
+        request,
+        "inspections/new.html",
+        {
+            "vehicle": vehicle,
+            "values": values,
+            "errors": errors.messages,
+            "form_token": token,
+            "readings_per_wheel": READINGS_PER_WHEEL,
+            "measured_open": any(
+                k.startswith("measured_") and (v or k in errors.messages) for k, v in values.items()
+            ),
+        },
+        status_code=status_code,
+    )
+
+
+@router.get("/vehicles/{registration_key}/inspections/new")
+def new_inspection_form(
+    request: Request, session: SessionDep, login: CurrentLogin, registration_key: str
+) -> Response:
+    """The form, pre-filled with the vehicle's wheelbase and seats and the standard occupant mass."""
+    vehicle = _vehicle(session, registration_key)
+    values = initial_values(vehicle, get_settings().occupant_mass_kg)
+    return _form_page(request, vehicle, values, submissions.new_form_token(), FormErrors(), 200)
+
+
+@router.post("/vehicles/{registration_key}/inspections/new")
+def create_inspection(
+    request: Request, session: SessionDep, login: PostLogin, form: FormDep, registration_key: str
+) -> Response:
+    """Assess and store once; a repeated submission of the same form goes to the first result."""
+    vehicle = _vehicle(session, registration_key)
+    token = str(form.get("form_token") or "")
+    if not submissions.valid_token(token):
+        token = submissions.new_form_token()
+    elif (done := submissions.previous_result(session, token)) is not None:
+        return RedirectResponse(done, status_code=303)
+    parsed = read_inspection_form(form, vehicle)
+    if parsed.request is not None:
+
+        def store_token(db: Session, inspection: Inspection) -> None:
+            submissions.remember(
+                db, token=token, user_id=login.user_id, redirect_path=f"/inspections/{inspection.id}"
+            )
+
+        try:
+            inspection = record_inspection(
+                session,
+                request=parsed.request,
+                rules=get_settings().rules(),
+                user_id=login.user_id,
+                on_stored=store_token,
+            )
+        except ServiceError as error:
+            parsed.errors.add_problems(error.problems, parsed.input_for, "front_kg_1")
+            if not error.problems:
+                parsed.errors.add("front_kg_1", error.message)
+        except IntegrityError:
+            session.rollback()  # the same form was stored by a simultaneous submission
+            done = submissions.previous_result(session, token)
+            if done is None:
+                raise
+            return RedirectResponse(done, status_code=303)
+        else:
+            set_flash(session, login, "Inspection recorded.")
+            return RedirectResponse(f"/inspections/{inspection.id}", status_code=303)
+    return _form_page(request, vehicle, parsed.values, token, parsed.errors, 422)
+
+
+def table_rows(inspection: Inspection) -> list[dict[str, Any]]:
+    """Table 4 of the study for this inspection, one row per loading case."""
+    return [
+        {
+            "occupants": case.occupants,
+            "label": case_label(case.occupants),
+            "total_kg": case.total_kg,
+            "rear_kg": case.rear_kg,
+            "lsf": case.lsf,
+            "variance": case.variance,
+            "compliant": case.compliant,
+            "measured": case.measured,
+        }
+        for case in inspection.loading_cases
+    ]
+
+
+def raw_readings(inspection: Inspection) -> dict[str, list[str]]:
+    """The base weighing's readings per wheel, as typed."""
+    found: dict[str, list[str]] = {}
+    for reading in inspection.readings:
+        if reading.case_occupants == 0:
+            found.setdefault(reading.wheel, []).append(f"{reading.value_kg.normalize():f}")
+    return found
+
+
+def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
+    """What the result partial shows: Table 4, the verdict in words, the occupancy and the chart."""
+    cases = inspection.loading_cases
+    points = [
+        ChartPoint(short_label(c.occupants), case_label(c.occupants), float(c.lsf), c.compliant)
+        for c in cases
+    ]
+    return {
+        "inspection": inspection,
+        "rows": table_rows(inspection),
+        "verdict": verdict_sentence(
+            [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
+        ),
+        "occupancy": certified_occupancy(inspection.max_compliant_occupants),
+        "chart": lsf_chart(points),
+    }
+
+
+@router.get("/inspections/{inspection_id}")
+def inspection_page(
+    request: Request, session: SessionDep, login: CurrentLogin, inspection_id: int
+) -> Response:
+    """Table 4, the verdict in words, the certified occupancy and the chart."""
+    inspection = get_inspection(session, inspection_id)
+    officer = session.get(User, inspection.user_id) if inspection.user_id else None
+    context = result_context(session, inspection)
+    context.update(officer=officer, raw=raw_readings(inspection))
+    return render(request, "inspections/show.html", context)
+
+
+VERDICTS = {"": None, "compliant": True, "not-compliant": False}
+
+
+def _date(raw: str, name: str, errors: FormErrors) -> date | None:
+    if not raw:
+        return None
+    try:
+        return date.fromisoformat(raw)
+    except ValueError:
+        errors.add(name, "Enter the date as year-month-day, like 2026-11-23")
+        return None
+
+
+@router.get("/inspections")
+def inspections_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+    """Inspections, newest first, filtered by verdict, station, dates and registration, a page at a time."""
+    query = request.query_params
+    values = {
+        name: query.get(name, "").strip()[:40]
+        for name in ("verdict", "station", "from", "to", "registration")
+    }
+    errors = FormErrors()
+    if values["verdict"] not in VERDICTS:
+        errors.add("verdict", "Choose compliant, not compliant or all")
+        values["verdict"] = ""
+    station_id = int(values["station"]) if values["station"].isdigit() else None
+    since_day, until_day = _date(values["from"], "from", errors), _date(values["to"], "to", errors)
+    if since_day and until_day and until_day < since_day:
+        errors.add("to", "The 'to' date must be the same as or after the 'from' date")
+        until_day = None
+    page = int(query["page"]) if query.get("page", "").isdigit() and int(query["page"]) > 0 else 1
+    size = get_settings().page_size
+    where = InspectionFilter(
+        registration_number=values["registration"] or None,
+        compliant=VERDICTS[values["verdict"]],
+        station_id=station_id,
+        since=day_bounds(since_day)[0] if since_day else None,
+        until=day_bounds(until_day)[1] if until_day else None,
+    )
+    items, total = list_inspections(session, where=where, limit=size, offset=(page - 1) * size)
+    kept = {k: v for k, v in values.items() if v}
+    return render(
+        request,
+        "inspections/list.html",
+        {
+            "items": items,
+            "total": total,
+            "page": page,
+            "pages": max(1, -(-total // size)),
+            "first": (page - 1) * size + 1 if items else 0,
+            "last": (page - 1) * size + len(items),
+            "values": values,
+            "errors": errors.messages,
+            "kept": kept,
+            "stations": session.scalars(select(Station).order_by(Station.name)).all(),
+            "today": local_today().isoformat(),
+        },
+        status_code=422 if errors else 200,
+    )

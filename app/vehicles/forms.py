@@ -1,0 +1,76 @@
+"""The register-a-vehicle form: read and parse the fields; the rules stay in the service and core."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from decimal import Decimal
+
+from starlette.datastructures import FormData
+
+from app.web.forms import FormErrors, parse_decimal, text
+
+PASSENGER_ROWS = 6
+TEXT_LIMITS = {"registration_number": 32, "make": 80, "model": 80, "chassis_number": 64}
+FIELDS = (
+    "registration_number",
+    "make",
+    "model",
+    "model_year",
+    "chassis_number",
+    "wheelbase_m",
+    "driver_x_m",
+    *(f"passenger_x_m_{i}" for i in range(1, PASSENGER_ROWS + 1)),
+)
+POSITION_HINT = "Enter the seat position as a number of metres behind the front wheel centre, like 1.630"
+
+
+@dataclass
+class VehicleForm:
+    """The typed form, its raw values (to show again) and its errors."""
+
+    values: dict[str, str]
+    errors: FormErrors = field(default_factory=FormErrors)
+    wheelbase_m: Decimal | None = None
+    model_year: int | None = None
+    seats: list[tuple[str, Decimal]] = field(default_factory=list)
+    # The service's field path of each seat -> the input that holds it.
+    input_for: dict[str, str] = field(default_factory=dict)
+
+
+def read_vehicle_form(form: FormData) -> VehicleForm:
+    """Parse the posted form; blank passenger rows are ignored."""
+    values = {name: text(form, name, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    result = VehicleForm(values=values)
+    errors = result.errors
+    if not values["registration_number"]:
+        errors.add("registration_number", "Enter the registration number, like BDG 252 QH")
+    for name, words in (("make", "make, like Bajaj"), ("model", "model, like RE 4S")):
+        if not values[name]:
+            errors.add(name, f"Enter the {words}")
+    if values["model_year"]:
+        year = values["model_year"]
+        if not year.isdigit() or not 1950 <= int(year) <= 2100:
+            errors.add("model_year", "Enter the model year as 4 digits, like 2012, or leave it blank")
+        else:
+            result.model_year = int(year)
+    result.wheelbase_m = parse_decimal(values["wheelbase_m"])
+    if result.wheelbase_m is None:
+        errors.add("wheelbase_m", "Enter the wheelbase as a number of metres, like 2.000")
+    driver = parse_decimal(values["driver_x_m"])
+    if driver is None:
+        errors.add("driver_x_m", "Enter the driver's seat position as a number of metres, like 0.930")
+    else:
+        result.seats.append(("driver", driver))
+    result.input_for = {"seats": "driver_x_m", "seats[0]": "driver_x_m", "wheelbase_m": "wheelbase_m"}
+    result.input_for["registration_number"] = "registration_number"
+    for i in range(1, PASSENGER_ROWS + 1):
+        name = f"passenger_x_m_{i}"
+        if not values[name]:
+            continue
+        position = parse_decimal(values[name])
+        if position is None:
+            errors.add(name, POSITION_HINT)
+            continue
+        result.input_for[f"seats[{len(result.seats)}]"] = name
+        result.seats.append(("passenger", position))
+    return result

@@ -1,0 +1,125 @@
+"""Vehicle pages: register one with its seat layout, find one by registration, its page and history."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Query
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.sessions import set_flash
+from app.config import get_settings
+from app.errors import Conflict, NotFound, ServiceError
+from app.inspections.service import InspectionFilter, list_inspections
+from app.inspections.views import result_context
+from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
+from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
+from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.forms import FormErrors
+from app.web.templating import render
+
+router = APIRouter(prefix="/vehicles", include_in_schema=False)
+HISTORY_LENGTH = 20
+
+
+@router.get("/find")
+def find_page(
+    request: Request,
+    session: SessionDep,
+    login: CurrentLogin,
+    registration_number: Annotated[str | None, Query(max_length=64)] = None,
+) -> Response:
+    """Find a vehicle by registration (case, spaces and hyphens ignored)."""
+    errors = FormErrors()
+    if registration_number is not None:
+        wanted = registration_number.strip()
+        if not wanted:
+            errors.add("registration_number", "Enter a registration number, like BDG 252 QH")
+        elif (vehicle := find_vehicle(session, wanted)) is not None:
+            return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
+        else:
+            errors.add(
+                "registration_number",
+                f"No vehicle {display_registration(wanted)} is registered. "
+                "Check the number, or register the vehicle",
+            )
+    return render(
+        request,
+        "vehicles/find.html",
+        {"values": {"registration_number": registration_number or ""}, "errors": errors.messages},
+        status_code=404 if errors and registration_number else 200,
+    )
+
+
+@router.get("/new")
+def new_vehicle_form(request: Request, login: CurrentLogin) -> Response:
+    """The form to register a vehicle and its seat layout."""
+    return render(request, "vehicles/new.html", {"passenger_rows": PASSENGER_ROWS})
+
+
+@router.post("/new")
+def register(request: Request, session: SessionDep, login: PostLogin, form: FormDep) -> Response:
+    """Register the vehicle, or show the form again with the problems and the values kept."""
+    parsed = read_vehicle_form(form)
+    conflict_key = ""
+    if not parsed.errors and parsed.wheelbase_m is not None:
+        values = parsed.values
+        try:
+            vehicle = register_vehicle(
+                session,
+                registration_number=values["registration_number"],
+                make=values["make"],
+                model=values["model"],
+                model_year=parsed.model_year,
+                chassis_number=values["chassis_number"] or None,
+                wheelbase_m=parsed.wheelbase_m,
+                seats=parsed.seats,
+                rules=get_settings().rules(),
+            )
+        except ServiceError as error:
+            if isinstance(error, Conflict):
+                conflict_key = normalise_registration(values["registration_number"])
+            parsed.errors.add_problems(error.problems, parsed.input_for, "registration_number")
+        else:
+            set_flash(session, login, f"Vehicle {vehicle.registration_number} registered.")
+            return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
+    return render(
+        request,
+        "vehicles/new.html",
+        {
+            "passenger_rows": PASSENGER_ROWS,
+            "values": parsed.values,
+            "errors": parsed.errors.messages,
+            "conflict_key": conflict_key,
+        },
+        status_code=422,
+    )
+
+
+@router.get("/{registration_key}")
+def vehicle_page(
+    request: Request, session: SessionDep, login: CurrentLogin, registration_key: str
+) -> Response:
+    """The vehicle, its seats, its latest result (Table 4 and chart) and its inspection history."""
+    vehicle = find_vehicle(session, registration_key)
+    if vehicle is None:
+        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+    if registration_key != vehicle.registration_key:
+        return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
+    inspections, total = list_inspections(
+        session,
+        where=InspectionFilter(registration_number=vehicle.registration_key),
+        limit=HISTORY_LENGTH,
+        offset=0,
+    )
+    return render(
+        request,
+        "vehicles/show.html",
+        {
+            "vehicle": vehicle,
+            "inspections": inspections,
+            "total": total,
+            "latest": result_context(session, inspections[0]) if inspections else None,
+        },
+    )

@@ -1,0 +1,138 @@
+"""The LSF chart of one inspection as inline SVG, drawn on the server (no script, no CDN).
+
+x: the loading cases; y: LSF; a line at 2/3 labelled "limit 2/3" with the region above it shaded
+"unstable"; compliant cases are circles marked C, non-compliant ones crosses marked NC.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from markupsafe import Markup, escape
+
+from app.stability import LSF_LIMIT
+
+WIDTH, HEIGHT = 480, 340
+LEFT, RIGHT, TOP, BOTTOM = 62, 86, 20, 60  # the right margin holds the label of the limit line
+STEP = 0.05
+LIMIT = float(LSF_LIMIT)
+LIMIT_TEXT = f"{LIMIT:.3f}"
+TITLE = "Lateral Stability Factor per loading case, against the 2/3 limit"
+
+
+@dataclass(frozen=True)
+class ChartPoint:
+    """One loading case on the chart."""
+
+    short_label: str  # under the axis: None, Driver, +1, ...
+    long_label: str  # in the text alternative: Driver + 1 passenger
+    lsf: float
+    compliant: bool
+
+
+def short_label(occupants: int) -> str:
+    """The axis label of a loading case: None, Driver, +1, +2, ..."""
+    return {0: "None", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
+
+
+def y_range(values: Sequence[float]) -> tuple[float, float]:
+    """The y axis: about 0.5 to 0.8, widened in steps of 0.05 to hold every point."""
+    low = min([0.5, *(v - 0.02 for v in values)])
+    high = max([0.8, *(v + 0.02 for v in values)])
+    return math.floor(round(low / STEP, 6)) * STEP, math.ceil(round(high / STEP, 6)) * STEP
+
+
+def _text(x: float, y: float, content: str, *, anchor: str = "middle", size: int = 15, cls: str = "") -> str:
+    cls_attr = f' class="{cls}"' if cls else ""
+    return (
+        f'<text x="{x:.1f}" y="{y:.1f}" text-anchor="{anchor}" font-size="{size}"{cls_attr}>'
+        f"{escape(content)}</text>"
+    )
+
+
+def _marker(x: float, y: float, compliant: bool) -> str:
+    if compliant:
+        return (
+            f'<circle class="chart__c" cx="{x:.1f}" cy="{y:.1f}" r="7" '
+            'fill="#00703c" stroke="#ffffff" stroke-width="2"/>'
+        )
+    d = 7
+    return (
+        f'<path class="chart__nc" d="M{x - d:.1f} {y - d:.1f} L{x + d:.1f} {y + d:.1f} '
+        f'M{x - d:.1f} {y + d:.1f} L{x + d:.1f} {y - d:.1f}" stroke="#b10e1e" stroke-width="4" '
+        f'stroke-linecap="round" fill="none"/>'
+    )
+
+
+def describe(points: Sequence[ChartPoint]) -> str:
+    """The chart's text alternative: every case's LSF and verdict, and the limit."""
+    cases = "; ".join(
+        f"{p.long_label}: {p.lsf:.3f}, {'C (compliant)' if p.compliant else 'NC (not compliant)'}"
+        for p in points
+    )
+    return (
+        f"Lateral Stability Factor for each loading case against the limit of 2/3 ({LIMIT_TEXT}); "
+        f"a case above the line is unstable. {cases}."
+    )
+
+
+def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> Markup:
+    """The whole SVG element, safe to place in a page."""
+    low, high = y_range([p.lsf for p in points])
+    plot_w, plot_h = WIDTH - LEFT - RIGHT, HEIGHT - TOP - BOTTOM
+
+    def y_of(value: float) -> float:
+        return TOP + (high - value) / (high - low) * plot_h
+
+    def x_of(index: int) -> float:
+        return LEFT + (index + 0.5) * plot_w / max(len(points), 1)
+
+    limit_y = y_of(LIMIT)
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
+        f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">',
+        f'<title id="{chart_id}-title">{escape(TITLE)}</title>',
+        f'<desc id="{chart_id}-desc">{escape(describe(points))}</desc>',
+        f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
+        'fill="#fbe3df"/>',
+        _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
+        _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", size=17, cls="chart__region"),
+    ]
+    ticks = round((high - low) / STEP)
+    for i in range(ticks + 1):
+        value = low + i * STEP
+        y = y_of(value)
+        parts.append(f'<line x1="{LEFT}" x2="{LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
+        parts.append(_text(LEFT - 8, y + 5, f"{value:.2f}", anchor="end", size=16))
+    parts.append(
+        f'<line class="chart__limit" x1="{LEFT}" x2="{LEFT + plot_w}" y1="{limit_y:.1f}" y2="{limit_y:.1f}" '
+        'stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
+    )
+    parts.append(
+        _text(LEFT + plot_w + 6, limit_y + 5, "limit 2/3", anchor="start", size=16, cls="chart__limit-label")
+    )
+    parts.append(
+        f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="none" stroke="#505a5f"/>'
+    )
+    if len(points) > 1:
+        line = " ".join(f"{x_of(i):.1f},{y_of(p.lsf):.1f}" for i, p in enumerate(points))
+        parts.append(f'<polyline points="{line}" fill="none" stroke="#505a5f" stroke-width="1.5"/>')
+    for i, point in enumerate(points):
+        x, y = x_of(i), y_of(point.lsf)
+        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
+        parts.append(_marker(x, y, point.compliant))
+        # C points lie below the line and NC points above it: label each away from the line.
+        label_y = y + 27 if point.compliant else y - 14
+        parts.append(_text(x, label_y, "C" if point.compliant else "NC", size=17, cls="chart__verdict"))
+        parts.append("</g>")
+        parts.append(_text(x, TOP + plot_h + 24, point.short_label, size=17))
+    parts.append(_text(LEFT + plot_w / 2, HEIGHT - 8, "Loading case (occupants)", size=17))
+    parts.append(
+        f'<text x="16" y="{TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="17" '
+        f'transform="rotate(-90 16 {TOP + plot_h / 2:.1f})">LSF</text>'
+    )
+    parts.append("</svg>")
+    # Every piece of text above went through escape(); the rest is markup built here from numbers.
+    return Markup("".join(parts))  # noqa: S704

@@ -1,0 +1,89 @@
+"""Page dependencies: the database session, the signed-in officer, the posted form and its CSRF check."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import Depends
+from sqlalchemy.orm import Session
+from starlette.datastructures import FormData
+from starlette.requests import Request
+
+from app.accounts.models import UserSession
+from app.accounts.sessions import load_session, pop_flash
+from app.config import get_settings
+from app.db import get_session
+from app.web import cookies
+from app.web.csrf import CsrfRefused, check_session_token
+
+SessionDep = Annotated[Session, Depends(get_session)]
+
+
+class SignInRequired(Exception):
+    """No live session: the browser is sent to the sign-in page, then back to `next_path`."""
+
+    def __init__(self, next_path: str) -> None:
+        super().__init__(next_path)
+        self.next_path = next_path
+
+
+class Forbidden(Exception):
+    """Signed in, but the role does not allow this page (403)."""
+
+
+def _live_session(request: Request, session: Session) -> UserSession | None:
+    token = cookies.read_cookie(request, cookies.SESSION)
+    if not token:
+        return None
+    return load_session(session, token=token, settings=get_settings())
+
+
+def current_login(request: Request, session: SessionDep) -> UserSession:
+    """The signed-in session of a page view, or a redirect to sign in."""
+    record = _live_session(request, session)
+    if record is None:
+        path = request.url.path + (f"?{request.url.query}" if request.url.query else "")
+        raise SignInRequired(path)
+    request.state.login = record
+    request.state.flash = pop_flash(session, record)
+    return record
+
+
+async def form_data(request: Request) -> FormData:
+    """The posted form (read once, shared by the CSRF check and the view)."""
+    return await request.form()
+
+
+FormDep = Annotated[FormData, Depends(form_data)]
+
+
+def checked_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
+    """A POST from a signed-in session carrying that session's CSRF token; anything else is 403."""
+    record = _live_session(request, session)
+    if record is None:
+        raise CsrfRefused
+    check_session_token(form, record.csrf_token)
+    request.state.login = record
+    return record
+
+
+CurrentLogin = Annotated[UserSession, Depends(current_login)]
+PostLogin = Annotated[UserSession, Depends(checked_post)]
+
+
+def admin_login(login: CurrentLogin) -> UserSession:
+    """A page view by an administrator."""
+    if login.user.role != "admin":
+        raise Forbidden
+    return login
+
+
+def admin_post(login: PostLogin) -> UserSession:
+    """A checked POST by an administrator."""
+    if login.user.role != "admin":
+        raise Forbidden
+    return login
+
+
+AdminLogin = Annotated[UserSession, Depends(admin_login)]
+AdminPost = Annotated[UserSession, Depends(admin_post)]

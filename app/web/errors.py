@@ -1,0 +1,111 @@
+"""Refusals on the pages as HTML (403, 404, sign-in redirects); the API keeps its JSON answers."""
+
+from __future__ import annotations
+
+from collections.abc import Awaitable, Callable
+from urllib.parse import urlencode
+
+from fastapi import FastAPI
+from fastapi.exceptions import RequestValidationError
+from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.errors import ServiceError
+from app.web.csrf import CsrfRefused
+from app.web.deps import Forbidden, SignInRequired
+from app.web.templating import render
+
+Handler = Callable[[Request, Exception], Awaitable[Response]]
+
+TITLES = {
+    400: "Sorry, there is a problem with this request",
+    403: "You cannot do that",
+    404: "Page not found",
+    405: "Sorry, that did not work",
+    413: "The form is too large",
+    422: "Sorry, there is a problem with this request",
+}
+
+
+def wants_html(request: Request) -> bool:
+    """A page request: not the API, and a browser asking for HTML."""
+    if request.url.path.startswith("/api/"):
+        return False
+    return "text/html" in request.headers.get("accept", "") or request.method == "POST"
+
+
+def error_page(request: Request, status: int, message: str, *, title: str | None = None) -> Response:
+    """The HTML page of a refusal."""
+    return render(
+        request,
+        "errors/error.html",
+        {
+            "title": title or TITLES.get(status, "Sorry, there is a problem"),
+            "message": message,
+            "status": status,
+        },
+        status_code=status,
+    )
+
+
+async def on_sign_in_required(request: Request, exc: Exception) -> Response:
+    """Send the browser to the sign-in page, remembering where it was going."""
+    assert isinstance(exc, SignInRequired)
+    query = urlencode({"next": exc.next_path}) if exc.next_path not in ("", "/") else ""
+    return RedirectResponse(f"/login?{query}" if query else "/login", status_code=303)
+
+
+async def on_csrf_refused(request: Request, _exc: Exception) -> Response:
+    """403: the form was not sent by this site's page, or the session has ended."""
+    return error_page(
+        request,
+        403,
+        "The form was out of date or did not come from this service, so nothing was saved. "
+        "Sign in again if you need to, go back, reload the page and try again.",
+        title="Sorry, you will have to start again",
+    )
+
+
+async def on_forbidden(request: Request, _exc: Exception) -> Response:
+    """403: the role does not allow the page."""
+    return error_page(request, 403, "Only an administrator can use this page.")
+
+
+def _fallback(previous: Handler | None, html: Callable[[Request, Exception], Response]) -> Handler:
+    async def handler(request: Request, exc: Exception) -> Response:
+        if wants_html(request) or previous is None:
+            return html(request, exc)
+        return await previous(request, exc)
+
+    return handler
+
+
+def _http_page(request: Request, exc: Exception) -> Response:
+    assert isinstance(exc, StarletteHTTPException)
+    message = "Check the address, or use the links above." if exc.status_code == 404 else str(exc.detail)
+    return error_page(request, exc.status_code, message)
+
+
+def _service_page(request: Request, exc: Exception) -> Response:
+    assert isinstance(exc, ServiceError)
+    message = exc.message.split(": ", 1)[-1] if exc.problems else exc.message
+    return error_page(request, exc.status, message[:1].upper() + message[1:])
+
+
+def _validation_page(request: Request, _exc: Exception) -> Response:
+    return error_page(request, 404, "Check the address, or use the links above.")
+
+
+def install_web_error_handlers(app: FastAPI) -> None:
+    """Answer page requests in HTML; hand API requests to the handlers already installed."""
+    app.add_exception_handler(SignInRequired, on_sign_in_required)
+    app.add_exception_handler(CsrfRefused, on_csrf_refused)
+    app.add_exception_handler(Forbidden, on_forbidden)
+    for kind, page in (
+        (StarletteHTTPException, _http_page),
+        (ServiceError, _service_page),
+        (RequestValidationError, _validation_page),
+    ):
+        previous = app.exception_handlers.get(kind)
+        app.add_exception_handler(kind, _fallback(previous, page))  # type: ignore[arg-type]

@@ -1,0 +1,72 @@
+"""Form helpers shared by the pages: reading fields, parsing numbers, and errors keyed by input id."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from decimal import Decimal, InvalidOperation
+
+from starlette.datastructures import FormData
+
+from app.errors import FieldProblem
+
+# The core and services start each message with the field's path ("readings.front_kg[1]: ...").
+_FIELD_PREFIX = re.compile(r"^[A-Za-z_][\w.\[\]]*: ")
+_NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)$")
+
+
+def text(form: FormData, name: str, *, limit: int = 200) -> str:
+    """A text field, stripped and cut to `limit` characters ("" when absent)."""
+    value = form.get(name)
+    return value.strip()[:limit] if isinstance(value, str) else ""
+
+
+def parse_decimal(value: str) -> Decimal | None:
+    """A plain decimal number typed by a person (a decimal comma is accepted), or None."""
+    cleaned = value.replace(" ", "")
+    if cleaned.count(",") == 1 and "." not in cleaned:
+        cleaned = cleaned.replace(",", ".")
+    if not _NUMBER.match(cleaned):
+        return None
+    try:
+        return Decimal(cleaned)
+    except InvalidOperation:
+        return None
+
+
+def readable(message: str) -> str:
+    """A service message without its field path, starting with a capital."""
+    message = _FIELD_PREFIX.sub("", message, count=1)
+    return message[:1].upper() + message[1:]
+
+
+class FormErrors:
+    """Errors of one form in page order, keyed by the id of the input they belong to."""
+
+    def __init__(self) -> None:
+        self.messages: dict[str, str] = {}
+
+    def add(self, input_id: str, message: str) -> None:
+        """Keep the first message for an input."""
+        self.messages.setdefault(input_id, message)
+
+    def add_problems(
+        self, problems: Iterable[FieldProblem], input_for: dict[str, str], fallback: str
+    ) -> None:
+        """Attach service problems to inputs, matching the longest known path prefix."""
+        for problem in problems:
+            self.add(find_input(problem.field, input_for, fallback), readable(problem.message))
+
+    def __bool__(self) -> bool:
+        return bool(self.messages)
+
+
+def find_input(path: str, input_for: dict[str, str], fallback: str) -> str:
+    """The input id for a service field path: exact, else its nearest known parent, else `fallback`."""
+    candidate = path
+    while candidate:
+        if candidate in input_for:
+            return input_for[candidate]
+        cut = max(candidate.rfind("."), candidate.rfind("["))
+        candidate = candidate[:cut] if cut > 0 else ""
+    return fallback

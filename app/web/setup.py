@@ -1,0 +1,27 @@
+"""Mount the officer pages on the app: routers, static files, HTML errors and page headers."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fastapi import FastAPI
+from fastapi.staticfiles import StaticFiles
+
+from app.accounts.admin_views import router as admin_router
+from app.accounts.views import router as accounts_router
+from app.inspections.views import router as inspections_router
+from app.vehicles.views import router as vehicles_router
+from app.web.errors import install_web_error_handlers
+from app.web.headers import PageHeaders
+from app.web.home import router as home_router
+
+STATIC_DIR = Path(__file__).resolve().parent / "static"
+
+
+def install_web(app: FastAPI) -> None:
+    """Add the pages; call after the API's error handlers are installed, so API answers stay JSON."""
+    install_web_error_handlers(app)
+    app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+    for router in (home_router, accounts_router, admin_router, vehicles_router, inspections_router):
+        app.include_router(router)
+    app.add_middleware(PageHeaders)

@@ -1,0 +1,54 @@
+"""The Jinja2 environment and render(): every page gets the signed-in user, CSRF token and flash."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import jinja2
+from starlette.requests import Request
+from starlette.responses import HTMLResponse
+from starlette.templating import Jinja2Templates
+
+from app.stability import case_label
+from app.web import formatting
+
+TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
+SERVICE_NAME = "Keke stability certification"
+
+_env = jinja2.Environment(
+    loader=jinja2.FileSystemLoader(TEMPLATES_DIR),
+    autoescape=True,
+    undefined=jinja2.StrictUndefined,
+    trim_blocks=True,
+    lstrip_blocks=True,
+)
+_env.filters.update(
+    kg=formatting.kg,
+    ratio=formatting.ratio,
+    signed=formatting.signed,
+    local_time=formatting.local_time,
+)
+_env.globals.update(service_name=SERVICE_NAME, limit_text=formatting.limit_text, case_label=case_label)
+templates = Jinja2Templates(env=_env)
+
+
+def render(
+    request: Request,
+    name: str,
+    context: dict[str, Any] | None = None,
+    *,
+    status_code: int = 200,
+) -> HTMLResponse:
+    """Render a page; the layout reads the signed-in session from request.state."""
+    login = getattr(request.state, "login", None)
+    page: dict[str, Any] = {
+        "login": login,
+        "user": login.user if login else None,
+        "csrf_token": login.csrf_token if login else "",
+        "flash": getattr(request.state, "flash", None),
+        "errors": {},
+        "values": {},
+    }
+    page.update(context or {})
+    return templates.TemplateResponse(request, name, page, status_code=status_code)

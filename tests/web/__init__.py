@@ -1,0 +1,1 @@
+"""Tests of the officer pages: HTTP tests with TestClient and browser tests with Chromium."""

@@ -1,0 +1,97 @@
+"""Fixtures for the officer pages: accounts, a signed-in TestClient, the study's vehicle, and for the
+browser tests the real app under uvicorn on a free port with Debian's Chromium."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from decimal import Decimal
+from typing import Any
+
+import pytest
+import uvicorn
+from fastapi.testclient import TestClient
+from sqlalchemy.orm import Session
+
+from app.accounts.models import User
+from app.accounts.service import create_user
+from app.main import create_app
+from app.vehicles.models import Vehicle
+from app.vehicles.service import register_vehicle
+from web.webtools import ADMIN_EMAIL, CHROMIUM, CHROMIUM_ARGS, OFFICER_EMAIL, PASSWORD, STUDY_SEATS, sign_in
+
+
+@pytest.fixture
+def officer(session: Session) -> User:
+    """An officer account."""
+    return create_user(session, email=OFFICER_EMAIL, password=PASSWORD, role="officer")
+
+
+@pytest.fixture
+def admin(session: Session) -> User:
+    """An administrator account."""
+    return create_user(session, email=ADMIN_EMAIL, password=PASSWORD, role="admin")
+
+
+@pytest.fixture
+def web(client: TestClient, officer: User) -> TestClient:
+    """A TestClient signed in as the officer."""
+    assert sign_in(client, OFFICER_EMAIL).status_code == 303
+    return client
+
+
+@pytest.fixture
+def admin_web(client: TestClient, admin: User) -> TestClient:
+    """A TestClient signed in as the administrator."""
+    assert sign_in(client, ADMIN_EMAIL).status_code == 303
+    return client
+
+
+@pytest.fixture
+def study_vehicle(session: Session) -> Vehicle:
+    """The study's vehicle BDG 252 QH: wheelbase 2.000 m, driver at 0.9303 m, three passengers."""
+    return register_vehicle(
+        session,
+        registration_number="BDG 252 QH",
+        make="Bajaj",
+        model="RE",
+        model_year=2012,
+        wheelbase_m=Decimal("2.000"),
+        seats=STUDY_SEATS,
+    )
+
+
+# ---- the browser tests: the real app under uvicorn, Debian's Chromium --------------------------
+
+
+@pytest.fixture(scope="session")
+def live_server(database_url: str) -> Iterator[str]:
+    """The app served by uvicorn in a thread on 127.0.0.1 and a free port, on the test database."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    sock.bind(("127.0.0.1", 0))
+    port = sock.getsockname()[1]
+    server = uvicorn.Server(uvicorn.Config(create_app(), log_level="warning", access_log=False))
+    thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 10
+    while not server.started and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert server.started, "uvicorn did not start"
+    yield f"http://127.0.0.1:{port}"
+    server.should_exit = True
+    thread.join(timeout=10)
+    sock.close()
+
+
+@pytest.fixture(scope="session")
+def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[str, Any]:
+    """Launch Debian's Chromium, never a downloaded browser."""
+    return {**browser_type_launch_args, "executable_path": CHROMIUM, "args": CHROMIUM_ARGS, "headless": True}
+
+
+@pytest.fixture(scope="session")
+def browser_context_args(browser_context_args: dict[str, Any], live_server: str) -> dict[str, Any]:
+    """Every page opens on the live server, 1280 px wide."""
+    return {**browser_context_args, "base_url": live_server, "viewport": {"width": 1280, "height": 900}}

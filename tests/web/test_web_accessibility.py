@@ -1,0 +1,122 @@
+"""axe-core (from the npm registry, `npm ci` at the top of the repository) finds no violation on the
+main pages; with TRIKECERT_SCREENSHOTS=1 the same run saves them at 1280 and 360 px in docs/screenshots/."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable, Iterator
+from decimal import Decimal
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Browser, Page, expect
+from sqlalchemy.orm import Session
+
+from app.accounts.models import User
+from app.config import get_settings
+from app.inspections.models import Inspection
+from app.inspections.service import InspectionRequest, record_inspection
+from app.stability import WheelReadings
+from app.vehicles.models import Vehicle
+from web.webtools import ADMIN_EMAIL, PASSWORD, REPO
+
+pytestmark = pytest.mark.browser
+
+AXE_PATH = Path(os.environ.get("TRIKECERT_AXE_PATH", str(REPO / "node_modules" / "axe-core" / "axe.min.js")))
+SCREENSHOTS = REPO / "docs" / "screenshots"
+TAKE_SCREENSHOTS = os.environ.get("TRIKECERT_SCREENSHOTS") == "1"
+
+
+@pytest.fixture
+def axe_script() -> Path:
+    """axe.min.js; missing is a failure on CI and a skip on a machine without `npm ci`."""
+    if not AXE_PATH.is_file():
+        if os.environ.get("CI"):
+            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+    return AXE_PATH
+
+
+@pytest.fixture
+def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterator[Page]:
+    """A page that may inject axe-core despite the pages' Content-Security-Policy."""
+    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
+    yield context.new_page()
+    context.close()
+
+
+@pytest.fixture
+def study_inspection(session: Session, study_vehicle: Vehicle, admin: User) -> Inspection:
+    """The study's inspection of BDG 252 QH, recorded by the admin."""
+    readings = WheelReadings((Decimal(108),), (Decimal(115),), (Decimal(135),), (Decimal(359),))
+    return record_inspection(
+        session,
+        request=InspectionRequest(registration_number="BDG252QH", readings=readings),
+        rules=get_settings().rules(),
+        user_id=admin.id,
+    )
+
+
+def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
+    """Run axe-core on the page as it stands; every violation with the elements it names."""
+    page.add_script_tag(path=str(script))
+    result: dict[str, Any] = page.evaluate("async () => await axe.run(document)")
+    assert len(result["passes"]) > 10, "axe-core did not run its rules"
+    return [
+        {"id": v["id"], "impact": v["impact"], "help": v["help"], "nodes": [n["target"] for n in v["nodes"]]}
+        for v in result["violations"]
+    ]
+
+
+def submit_invalid_inspection(page: Page) -> None:
+    page.locator("#front_kg_1").fill("1O8")
+    page.locator("#overall_kg_1").fill("359")
+    page.get_by_role("button", name="Assess and save inspection").click()
+    expect(page.locator(".error-summary")).to_be_visible()
+
+
+def submit_invalid_vehicle(page: Page) -> None:
+    page.get_by_role("button", name="Register vehicle").click()
+    expect(page.locator(".error-summary")).to_be_visible()
+
+
+MAIN_PAGES: list[tuple[str, str, Callable[[Page], None] | None]] = [
+    ("login", "/login", None),
+    ("home", "/", None),
+    ("find-vehicle", "/vehicles/find", None),
+    ("register-vehicle", "/vehicles/new", None),
+    ("register-vehicle-errors", "/vehicles/new", submit_invalid_vehicle),
+    ("vehicle", "/vehicles/BDG252QH", None),
+    ("new-inspection", "/vehicles/BDG252QH/inspections/new", None),
+    ("new-inspection-errors", "/vehicles/BDG252QH/inspections/new", submit_invalid_inspection),
+    ("inspection", "/inspections/{id}", None),
+    ("inspections", "/inspections", None),
+    ("users", "/admin/users", None),
+]
+
+
+def test_the_main_pages_have_no_axe_violations(
+    audit_page: Page, axe_script: Path, study_inspection: Inspection
+) -> None:
+    page = audit_page
+    found: dict[str, list[dict[str, Any]]] = {}
+    for name, url, action in MAIN_PAGES:
+        if name == "home":
+            page.get_by_label("Email address").fill(ADMIN_EMAIL)
+            page.get_by_label("Password").fill(PASSWORD)
+            page.get_by_role("button", name="Sign in").click()
+        else:
+            page.goto(url.format(id=study_inspection.id))
+        if action is not None:
+            action(page)
+        if violations := axe_violations(page, axe_script):
+            found[name] = violations
+        if TAKE_SCREENSHOTS:
+            SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(SCREENSHOTS / f"{name}-1280.png"), full_page=True)
+            page.set_viewport_size({"width": 360, "height": 740})
+            page.screenshot(path=str(SCREENSHOTS / f"{name}-360.png"), full_page=True)
+            page.set_viewport_size({"width": 1280, "height": 900})
+    assert found == {}, json.dumps(found, indent=1)

@@ -1,0 +1,83 @@
+"""Helpers of the page tests: accounts, the study's readings, posting forms as a browser would."""
+
+from __future__ import annotations
+
+import os
+import re
+from decimal import Decimal
+from html.parser import HTMLParser
+from pathlib import Path
+
+from fastapi.testclient import TestClient
+from httpx import Response
+
+PASSWORD = "correct horse battery"
+OFFICER_EMAIL = "officer@example.org"
+ADMIN_EMAIL = "admin@example.org"
+STUDY_SEATS = [("driver", Decimal("0.9303"))] + [("passenger", Decimal("1.6303"))] * 3
+STUDY_READINGS = {
+    "front_kg_1": "108",
+    "left_rear_kg_1": "115",
+    "right_rear_kg_1": "135",
+    "overall_kg_1": "359",
+}
+
+REPO = Path(__file__).resolve().parents[2]
+CHROMIUM = os.environ.get("TRIKECERT_CHROMIUM", "/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+_TOKEN = re.compile(r'name="(csrf_token|form_token)" value="([^"]*)"')
+
+
+def hidden(html: str, name: str = "csrf_token") -> str:
+    """The value of a hidden token field in a page."""
+    for found, value in _TOKEN.findall(html):
+        if found == name:
+            return str(value)
+    raise AssertionError(f"no {name} in the page")
+
+
+def sign_in(client: TestClient, email: str, password: str = PASSWORD, **extra: str) -> Response:
+    """Post the sign-in form as a browser would (token from the page, cookie kept by the client)."""
+    page = client.get("/login")
+    form = {"email": email, "password": password, "csrf_token": hidden(page.text), **extra}
+    response: Response = client.post("/login", data=form, follow_redirects=False)
+    return response
+
+
+class _Inputs(HTMLParser):
+    """Collects the name and value of every text-like input of a page, as a browser would send them."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.values: dict[str, str] = {}
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        kind = found.get("type") or "text"
+        if tag == "input" and found.get("name") and (kind not in ("radio", "checkbox") or "checked" in found):
+            self.values.setdefault(str(found["name"]), found.get("value") or "")
+
+
+def form_values(html: str) -> dict[str, str]:
+    """Every input of the page with the value it shows (the sign-out form's token included)."""
+    parser = _Inputs()
+    parser.feed(html)
+    return parser.values
+
+
+def post_form(client: TestClient, page_url: str, action: str, fields: dict[str, str]) -> Response:
+    """Open a form page, then post it as a browser would: what the page shows, changed by `fields`."""
+    page = client.get(page_url)
+    assert page.status_code == 200, page.text
+    response: Response = client.post(
+        action, data={**form_values(page.text), **fields}, follow_redirects=False
+    )
+    return response
