@@ -17,4 +17,9 @@ STUDY_VEHICLE: dict[str, Any] = {
         {"role": "passenger", "x_m": 1.6303},
     ],
 }
-STUDY_READINGS: dict[str, Any] = {"front_kg": 108, "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359}
+STUDY_READINGS: dict[str, Any] = {
+    "front_kg": 108,
+    "left_rear_kg": 115,
+    "right_rear_kg": 135,
+    "overall_kg": 359,
+}

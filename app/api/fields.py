@@ -28,6 +28,7 @@ def text(max_length: int, description: str | None = None) -> Any:
     """A Field for free text of 1 to `max_length` characters: not blank, no control characters."""
     return Field(min_length=1, max_length=max_length, pattern=TEXT_PATTERN, description=description)
 
+
 _RFC3339 = re.compile(
     r"(?P<year>\d{4})-(?P<month>\d{2})-(?P<day>\d{2})[Tt]"
     r"(?P<hour>\d{2}):(?P<minute>\d{2}):(?P<second>\d{2})(?:\.(?P<fraction>\d+))?"

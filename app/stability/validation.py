@@ -101,9 +101,14 @@ def check_sum_tolerance(
 def check_wheelbase(wheelbase_m: Decimal, rules: Rules) -> None:
     """Refuse a wheelbase outside the plausible range."""
     check_number(
-        wheelbase_m, field="wheelbase_m", minimum=rules.min_wheelbase_m,
-        maximum=rules.max_wheelbase_m, decimals=rules.max_distance_decimals,
-        what="wheelbase", unit="m", inclusive_minimum=True,
+        wheelbase_m,
+        field="wheelbase_m",
+        minimum=rules.min_wheelbase_m,
+        maximum=rules.max_wheelbase_m,
+        decimals=rules.max_distance_decimals,
+        what="wheelbase",
+        unit="m",
+        inclusive_minimum=True,
     )
 
 
@@ -112,16 +117,25 @@ def check_geometry(data: AssessmentInput, rules: Rules) -> None:
     check_wheelbase(data.wheelbase_m, rules)
     if data.occupant_mass_kg is not None:
         check_number(
-            data.occupant_mass_kg, field="occupants.mass_kg", minimum=rules.min_occupant_mass_kg,
-            maximum=rules.max_occupant_mass_kg, decimals=rules.max_reading_decimals,
-            what="standard occupant mass", unit="kg", inclusive_minimum=True,
+            data.occupant_mass_kg,
+            field="occupants.mass_kg",
+            minimum=rules.min_occupant_mass_kg,
+            maximum=rules.max_occupant_mass_kg,
+            decimals=rules.max_reading_decimals,
+            what="standard occupant mass",
+            unit="kg",
+            inclusive_minimum=True,
         )
     check_seat_layout(data.seats, data.wheelbase_m, rules)
     for index, item in enumerate(data.load_items):
         check_number(
-            item.mass_kg, field=f"load_items[{index}].mass_kg", minimum=Decimal(0),
-            maximum=rules.max_load_item_kg, decimals=rules.max_reading_decimals,
-            what="load item mass", unit="kg",
+            item.mass_kg,
+            field=f"load_items[{index}].mass_kg",
+            minimum=Decimal(0),
+            maximum=rules.max_load_item_kg,
+            decimals=rules.max_reading_decimals,
+            what="load item mass",
+            unit="kg",
         )
         check_position(item.x_m, data.wheelbase_m, rules, field=f"load_items[{index}].x_m")
 

@@ -236,4 +236,3 @@ def test_the_api_conforms_to_its_openapi_schema(case: schemathesis.Case[Any], cl
         excluded_checks=[positive_data_acceptance],
         additional_checks=[positive_data_acceptance_with_cross_field_rules, the_station_key_is_honoured],
     )
-

@@ -30,7 +30,10 @@ STUDY_VEHICLE: dict[str, Any] = {
     ],
 }
 STUDY_READINGS: dict[str, Any] = {
-    "front_kg": 108, "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359,
+    "front_kg": 108,
+    "left_rear_kg": 115,
+    "right_rear_kg": 135,
+    "overall_kg": 359,
 }
 # A front-heavy trike of our own: every loading case complies (LSF 0.444, 0.448, 0.500).
 FRONT_HEAVY: dict[str, Any] = {
@@ -154,9 +157,9 @@ def test_a_measured_case_replaces_the_moment_arithmetic_for_its_row(
     ]
     assert body["max_compliant_occupants"] == 1
     stored = session.scalar(
-        select(func.count()).select_from(Reading).where(
-            Reading.inspection_id == body["id"], Reading.case_occupants == 1
-        )
+        select(func.count())
+        .select_from(Reading)
+        .where(Reading.inspection_id == body["id"], Reading.case_occupants == 1)
     )
     assert stored == 4  # the measured case's own raw readings are kept too
 
@@ -260,8 +263,11 @@ def test_the_list_item_is_a_summary(study: TestClient, listed: dict[str, int]) -
         ("since=2026-02-01T09:00:00%2B01:00", ["study april", "front-heavy march", "study february"], 3),
         ("until=2026-03-01T08:00:00Z", ["study february", "study january"], 2),
         ("since=2026-02-01T00:00:00Z&until=2026-04-01T00:00:00Z", ["front-heavy march", "study february"], 2),
-        ("since=2026-02-01T00:00:00Z&compliant=false&registration_number=bdg252qh",
-         ["study april", "study february"], 2),
+        (
+            "since=2026-02-01T00:00:00Z&compliant=false&registration_number=bdg252qh",
+            ["study april", "study february"],
+            2,
+        ),
     ],
 )
 def test_the_list_filters_combine(

@@ -29,8 +29,10 @@ def test_the_study_vehicle_gets_table_4_with_c_only_for_the_driver_alone(api: Te
     )
     assert response.status_code == 201, response.text
     body = response.json()
-    rows = [(c["occupants"], c["total_kg"], c["rear_kg"], c["lsf"], c["variance"], c["compliant"])
-            for c in body["loading_cases"]]
+    rows = [
+        (c["occupants"], c["total_kg"], c["rear_kg"], c["lsf"], c["variance"], c["compliant"])
+        for c in body["loading_cases"]
+    ]
     assert rows == [
         (0, 359.0, 250.0, 0.6964, -0.0297, False),
         (1, 431.0, 283.49, 0.6578, 0.0089, True),
