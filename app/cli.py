@@ -1,4 +1,4 @@
-"""The `trikecert` command: serve, migrate, create-station, create-user, demo."""
+"""The `trikecert` command: serve, migrate, stations, create-user, demo, prune-idempotency-keys."""
 
 from __future__ import annotations
 
@@ -8,10 +8,16 @@ import os
 import sys
 import tempfile
 from collections.abc import Sequence
+from dataclasses import replace
+from datetime import date
+from decimal import Decimal, InvalidOperation
 
+from app.certificates.cli import add_certificate_commands
 from app.config import get_settings
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
+from app.stations.details import StationDetails, details_of
+from app.stations.models import Station
 
 
 def cmd_migrate(_args: argparse.Namespace) -> int:
@@ -33,10 +39,60 @@ def cmd_serve(args: argparse.Namespace) -> int:
         # Workers are separate processes: they share request metrics through files in this folder.
         os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
     uvicorn.run(
-        "app.main:create_app", factory=True, host=args.host, port=args.port, workers=args.workers,
-        proxy_headers=True, log_level="info", access_log=False,
+        "app.main:create_app",
+        factory=True,
+        host=args.host,
+        port=args.port,
+        workers=args.workers,
+        proxy_headers=True,
+        log_level="info",
+        access_log=False,
     )
     return 0
+
+
+def _date(text: str) -> date:
+    try:
+        return date.fromisoformat(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(f"give a date as YYYY-MM-DD, not {text!r}") from error
+
+
+def _kg(text: str) -> Decimal:
+    try:
+        value = Decimal(text)
+    except InvalidOperation as error:
+        raise argparse.ArgumentTypeError(f"give a number of kg, not {text!r}") from error
+    return value
+
+
+_DETAIL_OPTIONS = {
+    "location": "location",
+    "contact": "operator_contact",
+    "calibration_certificate": "calibration_certificate",
+    "calibration_valid_until": "calibration_valid_until",
+    "capacity_kg": "capacity_kg",
+    "division_kg": "division_kg",
+}
+
+
+def _details(args: argparse.Namespace, current: StationDetails | None = None) -> StationDetails:
+    """The station details from the options given, keeping the current ones for options left out."""
+    given = {field: getattr(args, option) for option, field in _DETAIL_OPTIONS.items()}
+    return replace(current or StationDetails(), **{k: v for k, v in given.items() if v is not None})
+
+
+def _print_station(station: Station) -> None:
+    calibration = (
+        f"calibration {station.calibration_certificate or '-'} valid until {station.calibration_valid_until}"
+        if station.calibration_valid_until
+        else "no calibration on record"
+    )
+    state = "active" if station.active else "disabled"
+    print(
+        f"station {station.id} {station.name!r} ({state}): {calibration}; "
+        f"capacity {station.capacity_kg or '-'} kg, division {station.division_kg or '-'} kg"
+    )
 
 
 def cmd_create_station(args: argparse.Namespace) -> int:
@@ -44,9 +100,57 @@ def cmd_create_station(args: argparse.Namespace) -> int:
     from app.stations.service import create_station
 
     with get_sessionmaker()() as session:
-        station, key = create_station(session, name=args.name)
+        station, key = create_station(session, name=args.name, details=_details(args))
     print(f"station {station.id} {station.name!r} created; its API key is shown once, below:")
     print(key)
+    return 0
+
+
+def cmd_update_station(args: argparse.Namespace) -> int:
+    """Change a station's particulars (only the options given); its key stays as it is."""
+    from app.stations.service import find_station, update_station
+
+    with get_sessionmaker()() as session:
+        station = find_station(session, args.station)
+        update_station(session, station=station, details=_details(args, details_of(station)), name=args.name)
+        _print_station(station)
+    return 0
+
+
+def cmd_rotate_station_key(args: argparse.Namespace) -> int:
+    """Give a station a new key (the old one stops working) and print it alone on the last line."""
+    from app.stations.service import find_station, rotate_key
+
+    with get_sessionmaker()() as session:
+        station = find_station(session, args.station)
+        key = rotate_key(session, station=station)
+    print(f"station {station.id} {station.name!r} has a new API key; the old one no longer works:")
+    print(key)
+    return 0
+
+
+def cmd_set_station_active(args: argparse.Namespace) -> int:
+    """Disable a station (its key is refused) or enable it again."""
+    from app.stations.service import find_station, set_station_active
+
+    with get_sessionmaker()() as session:
+        station = find_station(session, args.station)
+        set_station_active(session, station=station, active=args.active)
+        _print_station(station)
+    return 0
+
+
+def cmd_prune_idempotency_keys(args: argparse.Namespace) -> int:
+    """Delete idempotency keys older than the retention (at least 24 hours)."""
+    from datetime import timedelta
+
+    from app.db import utcnow
+    from app.idempotency.service import prune
+
+    hours = max(24, args.older_than_hours or get_settings().idempotency_key_hours)
+    with get_sessionmaker()() as session:
+        count = prune(session, older_than=utcnow() - timedelta(hours=hours))
+    print(f"deleted {count} idempotency key(s) older than {hours} hours")
     return 0
 
 
@@ -90,6 +194,17 @@ def cmd_demo(_args: argparse.Namespace) -> int:
     return 0
 
 
+def _station_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--location", help="where the weighbridge stands")
+    parser.add_argument("--contact", help="the operator's name, phone or email")
+    parser.add_argument("--calibration-certificate", help="the scale's calibration certificate number")
+    parser.add_argument(
+        "--calibration-valid-until", type=_date, help="last day the calibration is valid (YYYY-MM-DD)"
+    )
+    parser.add_argument("--capacity-kg", type=_kg, help="the scale's capacity (Max), kg")
+    parser.add_argument("--division-kg", type=_kg, help="the scale's division (e), kg")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The command line: one sub-command per job."""
     parser = argparse.ArgumentParser(prog="trikecert", description="Lateral stability certification service.")
@@ -108,14 +223,43 @@ def build_parser() -> argparse.ArgumentParser:
 
     station = commands.add_parser("create-station", help="create a weighbridge station and print its key")
     station.add_argument("name")
+    _station_options(station)
     station.set_defaults(handler=cmd_create_station)
+
+    update = commands.add_parser("update-station", help="change a station's particulars or its scale's")
+    update.add_argument("station", help="the station's name (or id)")
+    update.add_argument("--name", help="a new name")
+    _station_options(update)
+    update.set_defaults(handler=cmd_update_station)
+
+    rotate = commands.add_parser(
+        "rotate-station-key", help="give a station a new key; the old one stops working"
+    )
+    rotate.add_argument("station", help="the station's name (or id)")
+    rotate.set_defaults(handler=cmd_rotate_station_key)
+
+    disable = commands.add_parser("disable-station", help="refuse a station's key until it is enabled again")
+    disable.add_argument("station", help="the station's name (or id)")
+    disable.set_defaults(handler=cmd_set_station_active, active=False)
+
+    enable = commands.add_parser("enable-station", help="accept a disabled station's key again")
+    enable.add_argument("station", help="the station's name (or id)")
+    enable.set_defaults(handler=cmd_set_station_active, active=True)
+
+    prune = commands.add_parser("prune-idempotency-keys", help="delete idempotency keys past their retention")
+    prune.add_argument(
+        "--older-than-hours", type=int, help="default TRIKECERT_IDEMPOTENCY_KEY_HOURS; at least 24"
+    )
+    prune.set_defaults(handler=cmd_prune_idempotency_keys)
 
     user = commands.add_parser("create-user", help="create an account (password from standard input)")
     user.add_argument("email")
     user.add_argument("--role", choices=["officer", "admin"], required=True)
     user.set_defaults(handler=cmd_create_user)
 
-    commands.add_parser("demo", help="load the study's vehicle and its inspection").set_defaults(handler=cmd_demo)
+    demo = commands.add_parser("demo", help="load the study's vehicle and its inspection")
+    demo.set_defaults(handler=cmd_demo)
+    add_certificate_commands(commands)
     return parser
 
 

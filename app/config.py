@@ -8,12 +8,20 @@ from typing import Literal
 
 from pydantic import Field, SecretStr, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
-
 from sqlalchemy.engine import make_url
 
 from app.stability import Rules
 
-PLACEHOLDER_SECRETS = {"", "changeme", "change-me", "password", "postgres", "secret", "placeholder", "trikecert"}
+PLACEHOLDER_SECRETS = {
+    "",
+    "changeme",
+    "change-me",
+    "password",
+    "postgres",
+    "secret",
+    "placeholder",
+    "trikecert",
+}
 
 
 class Settings(BaseSettings):
@@ -35,7 +43,8 @@ class Settings(BaseSettings):
     certificate_validity_months: int = Field(default=12, ge=1, le=120)
     base_url: str = "http://127.0.0.1:8000"  # public address printed on certificates and in QR codes
     issuing_authority: str = "Tricycle Lateral Stability Certification Authority"
-    signing_key: SecretStr | None = None  # Ed25519 private key: PEM, base64 of PEM, or base64 of the 32-byte seed
+    # The Ed25519 key that signs QR payloads: PEM, base64 of PEM, or base64 of the 32-byte seed.
+    signing_key: SecretStr | None = None
     # Pages show times and count "today" in this zone; everything is stored in UTC.
     display_timezone: str = "Africa/Lagos"
     # Weighbridge stations: settling of repeated readings, scale calibration, rate limit, idempotency keys.

@@ -8,6 +8,7 @@ import app.models  # noqa: F401  (every table known to the mapper, whichever rou
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.api.router import api_router
+from app.certificates.public import public_router
 from app.config import get_settings
 from app.ops.health import router as health_router
 from app.ops.metrics import router as metrics_router
@@ -36,6 +37,7 @@ def create_app() -> FastAPI:
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.include_router(api_router)
+    app.include_router(public_router)
     app.include_router(health_router)
     app.include_router(metrics_router)
     install_web(app)  # the officer pages; after the API's error handlers

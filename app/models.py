@@ -1,21 +1,36 @@
 """Imports every ORM model so the metadata is complete (for Alembic and the tests)."""
 
 from app.accounts.models import LoginAttempt, User, UserSession
+from app.certificates.models import (
+    Certificate,
+    CertificateAudit,
+    CertificateRevocation,
+    CertificateSequence,
+    SigningKey,
+)
 from app.db import Base
+from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
-from app.stations.models import Station
+from app.stations.models import Station, StationRateWindow
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
 
 __all__ = [
     "Base",
+    "Certificate",
+    "CertificateAudit",
+    "CertificateRevocation",
+    "CertificateSequence",
     "FormSubmission",
+    "IdempotencyKey",
     "Inspection",
     "LoadingCaseRow",
     "LoginAttempt",
     "Reading",
     "Seat",
+    "SigningKey",
     "Station",
+    "StationRateWindow",
     "User",
     "UserSession",
     "Vehicle",

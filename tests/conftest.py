@@ -15,6 +15,7 @@ from sqlalchemy.engine import make_url
 from sqlalchemy.orm import Session
 
 from app import config, db
+from app.certificates.guard import immutability_lifted
 from app.db import Base
 from app.main import create_app
 from app.migrate import upgrade
@@ -76,7 +77,7 @@ def engine(database_url: str) -> Iterator[Engine]:
     """The run's engine; every table is emptied after the test."""
     engine = db.get_engine()
     yield engine
-    with engine.begin() as connection:
+    with engine.begin() as connection, immutability_lifted(connection):
         for table in reversed(Base.metadata.sorted_tables):
             connection.execute(table.delete())
 

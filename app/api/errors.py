@@ -98,10 +98,10 @@ async def on_validation_error(_request: Request, exc: Exception) -> JSONResponse
 
 
 async def on_service_error(_request: Request, exc: Exception) -> JSONResponse:
-    """A domain refusal with its own status."""
+    """A domain refusal with its own status (and its headers, such as a 429's Retry-After)."""
     assert isinstance(exc, ServiceError)
     problems = [FieldProblemOut(field=p.field, rule=p.rule, message=p.message) for p in exc.problems]
-    return _json(exc.status, exc.message, problems)
+    return _json(exc.status, exc.message, problems, headers=getattr(exc, "headers", None))
 
 
 # Starlette's and FastAPI's own refusals carry no field; name the part of the request they refuse.

@@ -6,13 +6,17 @@ from decimal import Decimal
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Query, status
+from fastapi.responses import Response
+from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
 from app.config import get_settings
+from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.inspections.models import Inspection
 from app.inspections.schemas import (
     AveragedReadingsOut,
+    CalibrationOut,
     InspectionIn,
     InspectionOut,
     InspectionPage,
@@ -30,6 +34,7 @@ from app.inspections.service import (
 )
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
 from app.stations.deps import SessionDep, StationDep
+from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import REGISTRATION_PATTERN
 
 router = APIRouter(prefix="/inspections", tags=["inspections"])
@@ -80,6 +85,23 @@ def inspection_summary(inspection: Inspection) -> InspectionSummary:
     )
 
 
+def _spread(inspection: Inspection) -> dict[str, float]:
+    """How far each wheel's repeated readings of the base weighing spread (max - min, kg)."""
+    values: dict[str, list[Decimal]] = {}
+    for reading in inspection.readings:
+        if reading.case_occupants == 0:
+            values.setdefault(reading.wheel, []).append(reading.value_kg)
+    return {wheel: _f(max(kg) - min(kg), 3) for wheel, kg in values.items()}
+
+
+def _calibration(inspection: Inspection) -> CalibrationOut | None:
+    if inspection.calibration_certificate is None and inspection.calibration_valid_until is None:
+        return None
+    return CalibrationOut(
+        certificate=inspection.calibration_certificate, valid_until=inspection.calibration_valid_until
+    )
+
+
 def inspection_out(inspection: Inspection) -> InspectionOut:
     """The full API view of a stored inspection, figures rounded for display, verdicts as stored."""
     raw: dict[str, list[float]] = {}
@@ -101,6 +123,8 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
             total_kg=_f(empty.total_kg, 3),
         ),
         raw_readings=raw,
+        spread_kg=_spread(inspection),
+        calibration=_calibration(inspection),
         seats=[{"role": s["role"], "x_m": float(s["x_m"])} for s in config["seats"]],
         load_items=[
             {"label": i["label"], "mass_kg": float(i["mass_kg"]), "x_m": float(i["x_m"])}
@@ -132,41 +156,74 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
     "",
     status_code=status.HTTP_201_CREATED,
     response_model=InspectionOut,
-    responses=error_responses(400, 401, 404, 413, 422),
+    responses={
+        **error_responses(400, 401, 403, 404, 413, 422),
+        **idempotent_responses(status.HTTP_201_CREATED),
+        **RATE_LIMITED_RESPONSE,
+    },
     summary="Submit weighbridge readings; answers with Table 4 and the verdict",
 )
-def create_inspection(body: InspectionIn, session: SessionDep, station: StationDep) -> InspectionOut:
-    """Assess and store one weighing; without `occupants` the vehicle's seats and the standard mass apply."""
-    inspection = record_inspection(
-        session, request=inspection_request(body), rules=get_settings().rules(), station=station
+def create_inspection(
+    body: InspectionIn,
+    session: SessionDep,
+    station: StationDep,
+    idempotency_key: IdempotencyKeyHeader = None,
+) -> Response:
+    """Assess and store one weighing; without `occupants` the vehicle's seats and the standard mass apply.
+
+    Send an `Idempotency-Key` so a retry over a dropped link is answered, never stored twice. 403 when
+    the station scale's calibration has lapsed; 422 for a reading above the scale's capacity or
+    repeated readings that spread more than allowed (the scale had not settled).
+    """
+    request = inspection_request(body)
+
+    def perform(remember: Remember) -> bytes:
+        answered: list[bytes] = []
+
+        def on_stored(db: Session, inspection: Inspection) -> None:
+            answered.append(inspection_out(inspection).model_dump_json().encode())
+            remember(db, answered[0])
+
+        record_inspection(
+            session, request=request, rules=get_settings().rules(), station=station, on_stored=on_stored
+        )
+        return answered[0]
+
+    return respond_once(
+        session,
+        station_id=station.id,
+        header=idempotency_key,
+        operation="POST /api/v1/inspections",
+        payload=body.model_dump(mode="json"),
+        status_code=status.HTTP_201_CREATED,
+        perform=perform,
     )
-    return inspection_out(inspection)
 
 
 @router.get(
     "/{inspection_id}",
     response_model=InspectionOut,
-    responses=error_responses(401, 404, 422),
+    responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
     summary="Read a stored inspection",
 )
 def read_inspection(
     inspection_id: Annotated[int, Path(ge=1, le=MAX_ID, description="The id answered when it was stored.")],
     session: SessionDep,
-    _station: StationDep,
+    station: StationDep,
 ) -> InspectionOut:
-    """The inspection as decided when it was stored."""
-    return inspection_out(get_inspection(session, inspection_id))
+    """The inspection as decided when it was stored; a station reads only its own (others: 404)."""
+    return inspection_out(get_inspection(session, inspection_id, station_id=station.id))
 
 
 @router.get(
     "",
     response_model=InspectionPage,
-    responses=error_responses(401, 422),
-    summary="List inspections, newest first",
+    responses={**error_responses(401, 422), **RATE_LIMITED_RESPONSE},
+    summary="List this station's inspections, newest first",
 )
 def index_inspections(
     session: SessionDep,
-    _station: StationDep,
+    station: StationDep,
     registration_number: Annotated[
         str | None, Query(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN)
     ] = None,
@@ -180,10 +237,11 @@ def index_inspections(
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     offset: Annotated[int, Query(ge=0, le=10_000_000)] = 0,
 ) -> InspectionPage:
-    """Filter by registration (normalised), verdict and time; paginate with limit and offset."""
+    """Only the inspections this station submitted; filter by registration (normalised), verdict and
+    time; paginate with limit and offset."""
     items, total = list_inspections(
         session,
-        where=InspectionFilter(registration_number, compliant, None, since, until),
+        where=InspectionFilter(registration_number, compliant, station.id, since, until),
         limit=limit,
         offset=offset,
     )

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from datetime import datetime
+from datetime import date, datetime
 from decimal import Decimal
 from typing import Any
 
-from sqlalchemy import JSON, Boolean, CheckConstraint, ForeignKey, Index, Integer, Numeric, String
+from sqlalchemy import JSON, Boolean, CheckConstraint, Date, ForeignKey, Index, Integer, Numeric, String
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
@@ -44,6 +44,9 @@ class Inspection(Base):
     cg_from_front_m: Mapped[Decimal] = mapped_column(Numeric(8, 5))
     compliant: Mapped[bool] = mapped_column(Boolean)
     max_compliant_occupants: Mapped[int] = mapped_column(Integer)
+    # The station scale's calibration in force when the readings were taken (None: not on record).
+    calibration_certificate: Mapped[str | None] = mapped_column(String(64))
+    calibration_valid_until: Mapped[date | None] = mapped_column(Date)
 
     vehicle: Mapped[Vehicle] = relationship(lazy="joined")
     station: Mapped[Station | None] = relationship(lazy="joined")

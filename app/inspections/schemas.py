@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from datetime import datetime
+from datetime import date, datetime
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -101,6 +101,13 @@ class AveragedReadingsOut(BaseModel):
     total_kg: float
 
 
+class CalibrationOut(BaseModel):
+    """The station scale's calibration in force when the readings were taken."""
+
+    certificate: str | None
+    valid_until: date | None
+
+
 class SettingsOut(BaseModel):
     """The rules and settings in force when the inspection was decided."""
 
@@ -128,6 +135,14 @@ class InspectionOut(InspectionSummary):
     wheelbase_m: float
     readings: AveragedReadingsOut
     raw_readings: dict[str, list[float]]
+    spread_kg: dict[str, float] = Field(
+        default_factory=dict,
+        description="For each wheel (and the overall weight) of `raw_readings`: the largest minus the "
+        "smallest reading, kg (0 for a single reading).",
+    )
+    calibration: CalibrationOut | None = Field(
+        default=None, description="The scale calibration in force, when the station had one on record."
+    )
     seats: list[dict[str, float | str]]
     load_items: list[dict[str, float | str]]
     settings: SettingsOut

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from datetime import datetime
+from datetime import UTC, date, datetime
 from decimal import ROUND_HALF_EVEN, Decimal
 from fractions import Fraction
 
@@ -27,6 +27,13 @@ from app.stability import (
 )
 from app.stability.model import WHEELS
 from app.stations.models import Station
+from app.stations.scale import (
+    ScaleRules,
+    check_calibration,
+    check_capacity,
+    check_settled,
+    configured_scale_rules,
+)
 from app.vehicles.models import Vehicle
 from app.vehicles.service import get_vehicle, normalise_registration
 
@@ -86,12 +93,18 @@ def record_inspection(
     station: Station | None = None,
     user_id: int | None = None,
     on_stored: Callable[[Session, Inspection], None] | None = None,
+    scale_rules: ScaleRules | None = None,
+    today: date | None = None,
 ) -> Inspection:
     """Assess and store one inspection in a single transaction; nothing is stored if it is refused.
 
+    A station's scale must be calibrated on `today` (UTC) and every reading within its capacity;
+    repeated readings must agree within `scale_rules` (None: the configured rules).
     `on_stored(session, inspection)` runs once the inspection has its id, before the commit, so a
-    caller can store a row of its own in the same transaction (the pages' one-time form token).
+    caller can store a row of its own in the same transaction (the pages' one-time form token, the
+    API's idempotency key).
     """
+    check_scale(request, station=station, rules=scale_rules or configured_scale_rules(), today=today)
     vehicle = get_vehicle(session, request.registration_number)
     data = build_input(vehicle, request)
     result = assess_input(data, rules)
@@ -116,6 +129,8 @@ def record_inspection(
         cg_from_front_m=quantize(result.cg_from_front_m, 5),
         compliant=result.compliant,
         max_compliant_occupants=result.max_compliant_occupants,
+        calibration_certificate=station.calibration_certificate if station else None,
+        calibration_valid_until=station.calibration_valid_until if station else None,
     )
     session.add(inspection)
     session.flush()
@@ -143,6 +158,25 @@ def record_inspection(
     return inspection
 
 
+def reading_sets(request: InspectionRequest) -> list[tuple[str, WheelReadings]]:
+    """Every set of readings in a request with the API path of its field: the base weighing first."""
+    return [("readings", request.readings)] + [
+        (f"measured_cases[{index}].readings", measured.readings)
+        for index, measured in enumerate(request.measured_cases)
+    ]
+
+
+def check_scale(
+    request: InspectionRequest, *, station: Station | None, rules: ScaleRules, today: date | None = None
+) -> None:
+    """Refuse readings from a station scale out of calibration or beyond capacity, or not settled."""
+    sets = reading_sets(request)
+    if station is not None:
+        check_calibration(station, today=today or datetime.now(UTC).date(), rules=rules)
+        check_capacity(station, sets)
+    check_settled(sets, rules=rules, division_kg=station.division_kg if station else None)
+
+
 def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadings) -> list[Reading]:
     return [
         Reading(
@@ -157,10 +191,13 @@ def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadin
     ]
 
 
-def get_inspection(session: Session, inspection_id: int) -> Inspection:
-    """The inspection with this id, or NotFound."""
+def get_inspection(session: Session, inspection_id: int, *, station_id: int | None = None) -> Inspection:
+    """The inspection with this id, or NotFound; with `station_id`, only one that station submitted.
+
+    Another station's inspection is answered exactly as one that does not exist.
+    """
     inspection = session.get(Inspection, inspection_id)
-    if inspection is None:
+    if inspection is None or (station_id is not None and inspection.station_id != station_id):
         raise NotFound(
             f"inspection_id: inspection {inspection_id} does not exist", field="inspection_id", rule="exists"
         )

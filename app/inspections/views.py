@@ -14,6 +14,7 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.models import User
 from app.accounts.sessions import set_flash
+from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
@@ -171,7 +172,11 @@ def inspection_page(
     inspection = get_inspection(session, inspection_id)
     officer = session.get(User, inspection.user_id) if inspection.user_id else None
     context = result_context(session, inspection)
-    context.update(officer=officer, raw=raw_readings(inspection))
+    context.update(
+        officer=officer,
+        raw=raw_readings(inspection),
+        certificates=certificates_of_inspection(session, inspection.id),
+    )
     return render(request, "inspections/show.html", context)
 
 

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable
+from typing import Any
 
 from fastapi import APIRouter, Response
 from prometheus_client import CONTENT_TYPE_LATEST, CollectorRegistry, generate_latest, multiprocess
 from prometheus_client.core import GaugeMetricFamily, Metric
 from prometheus_client.registry import REGISTRY, Collector
 from sqlalchemy import func, select
+from sqlalchemy.orm import Session
 
+from app.certificates.models import Certificate
 from app.db import get_sessionmaker
 from app.inspections.models import Inspection
 
@@ -20,17 +23,23 @@ router = APIRouter(tags=["operations"])
 class StoredCounts(Collector):
     """Counts read from the database at scrape time, so every worker reports the same figures."""
 
-    def collect(self) -> list[GaugeMetricFamily]:  # type: ignore[override]
-        """Inspections by verdict."""
-        inspections = GaugeMetricFamily(
-            "trikecert_inspections", "Stored inspections by overall verdict", labels=["verdict"]
-        )
+    def collect(self) -> list[Metric]:
+        """Inspections and certificates by verdict."""
         with get_sessionmaker()() as session:
-            rows = session.execute(select(Inspection.compliant, func.count()).group_by(Inspection.compliant)).all()
-        counts = {bool(compliant): int(count) for compliant, count in rows}
-        inspections.add_metric(["compliant"], counts.get(True, 0))
-        inspections.add_metric(["non_compliant"], counts.get(False, 0))
-        return [inspections]
+            return [
+                _by_verdict(session, Inspection.compliant, "trikecert_inspections", "Stored inspections"),
+                _by_verdict(session, Certificate.compliant, "trikecert_certificates", "Issued certificates"),
+            ]
+
+
+def _by_verdict(session: Session, column: Any, name: str, what: str) -> Metric:
+    """A gauge of how many rows carry each overall verdict."""
+    rows = session.execute(select(column, func.count()).group_by(column)).all()
+    counts = {bool(compliant): int(count) for compliant, count in rows}
+    gauge = GaugeMetricFamily(name, f"{what} by overall verdict", labels=["verdict"])
+    gauge.add_metric(["compliant"], counts.get(True, 0))
+    gauge.add_metric(["non_compliant"], counts.get(False, 0))
+    return gauge
 
 
 class ProcessMetrics(Collector):

@@ -1,4 +1,4 @@
-"""The API's authentication: every call carries `Authorization: Bearer <station key>`."""
+"""The API's authentication: every call carries `Authorization: Bearer <station key>`, counted per key."""
 
 from __future__ import annotations
 
@@ -8,8 +8,10 @@ from fastapi import Depends, HTTPException, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 from sqlalchemy.orm import Session
 
+from app.config import get_settings
 from app.db import get_session
 from app.stations.models import Station
+from app.stations.rate_limit import RateLimit, count_request
 from app.stations.service import authenticate_station
 
 bearer = HTTPBearer(auto_error=False, description="The station's API key, from `trikecert create-station`.")
@@ -20,7 +22,10 @@ def current_station(
     session: SessionDep,
     credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)],
 ) -> Station:
-    """The station whose key signs this request; 401 when the key is missing, unknown or disabled."""
+    """The station whose key signs this request; 401 when the key is missing, unknown or disabled.
+
+    Every authenticated request counts against the station key's rate limit (429 beyond it).
+    """
     if credentials is None or credentials.scheme.lower() != "bearer":
         raise HTTPException(
             status.HTTP_401_UNAUTHORIZED,
@@ -34,6 +39,9 @@ def current_station(
             "Authorization: the station key is not recognised or the station is disabled",
             headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
         )
+    settings = get_settings()
+    limit = RateLimit(settings.station_rate_limit, settings.station_rate_window_seconds)
+    count_request(session, station_id=station.id, limit=limit)
     return station
 
 

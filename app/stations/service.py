@@ -1,14 +1,18 @@
-"""Create weighbridge stations and recognise them by their API key."""
+"""Create, edit, rotate the key of and disable weighbridge stations; recognise them by their API key."""
 
 from __future__ import annotations
 
 import hashlib
 import secrets
+from collections.abc import Sequence
 
 from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from app.errors import Conflict, InvalidInput
+from app.db import utcnow
+from app.errors import Conflict, InvalidInput, NotFound
+from app.stations.details import StationDetails, apply_details, checked_details
 from app.stations.models import Station
 
 KEY_PREFIX = "tks_"
@@ -24,18 +28,89 @@ def new_key() -> str:
     return KEY_PREFIX + secrets.token_urlsafe(32)
 
 
-def create_station(session: Session, *, name: str) -> tuple[Station, str]:
-    """Store a station and return it with its key, which is shown this once and kept only as a hash."""
+def _checked_name(session: Session, name: str, *, station_id: int | None = None) -> str:
     name = " ".join(name.split())
     if not 1 <= len(name) <= 120:
-        raise InvalidInput("name: give the station a name of 1 to 120 characters", field="name", rule="length")
-    if session.scalar(select(Station.id).where(Station.name == name)) is not None:
+        raise InvalidInput(
+            "name: give the station a name of 1 to 120 characters", field="name", rule="length"
+        )
+    other = session.scalar(select(Station.id).where(Station.name == name))
+    if other is not None and other != station_id:
         raise Conflict(f"name: a station named {name!r} already exists", field="name", rule="unique")
+    return name
+
+
+def create_station(
+    session: Session, *, name: str, details: StationDetails | None = None
+) -> tuple[Station, str]:
+    """Store a station and return it with its key, which is shown this once and kept only as a hash."""
+    name = _checked_name(session, name)
+    checked = checked_details(details or StationDetails())
     key = new_key()
     station = Station(name=name, key_hash=hash_key(key), key_prefix=key[:10])
+    apply_details(station, checked)
     session.add(station)
-    session.commit()
+    try:
+        session.commit()
+    except IntegrityError as error:  # a station of the same name was stored meanwhile
+        session.rollback()
+        raise Conflict(
+            f"name: a station named {name!r} already exists", field="name", rule="unique"
+        ) from error
     return station, key
+
+
+def update_station(
+    session: Session, *, station: Station, details: StationDetails, name: str | None = None
+) -> Station:
+    """Replace a station's particulars (and its name when given); the key is left as it is."""
+    checked = checked_details(details)
+    if name is not None:
+        station.name = _checked_name(session, name, station_id=station.id)
+    apply_details(station, checked)
+    session.commit()
+    return station
+
+
+def rotate_key(session: Session, *, station: Station) -> str:
+    """Give the station a new key and return it (shown once); the old key stops working at once."""
+    key = new_key()
+    station.key_hash = hash_key(key)
+    station.key_prefix = key[:10]
+    station.key_rotated_at = utcnow()
+    session.commit()
+    return key
+
+
+def set_station_active(session: Session, *, station: Station, active: bool) -> Station:
+    """Enable or disable a station; a disabled station's key is refused (401) until it is enabled."""
+    station.active = active
+    session.commit()
+    return station
+
+
+def get_station(session: Session, station_id: int) -> Station:
+    """The station with this id, or NotFound."""
+    station = session.get(Station, station_id)
+    if station is None:
+        raise NotFound(f"station: station {station_id} does not exist", field="station", rule="exists")
+    return station
+
+
+def find_station(session: Session, name_or_id: str) -> Station:
+    """The station with this name (spaces tidied) or, failing that, this id; or NotFound."""
+    name = " ".join(name_or_id.split())
+    station = session.scalar(select(Station).where(Station.name == name))
+    if station is None and name.isdigit():
+        station = session.get(Station, int(name))
+    if station is None:
+        raise NotFound(f"station: no station is named {name!r}", field="station", rule="exists")
+    return station
+
+
+def list_stations(session: Session) -> Sequence[Station]:
+    """Every station, by name."""
+    return session.scalars(select(Station).order_by(Station.name)).all()
 
 
 def authenticate_station(session: Session, key: str) -> Station | None:

@@ -5,9 +5,13 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path, status
+from fastapi.responses import Response
+from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
+from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.stations.deps import SessionDep, StationDep
+from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.models import Vehicle
 from app.vehicles.schemas import (
     REGISTRATION_DESCRIPTION,
@@ -40,28 +44,59 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
     "",
     status_code=status.HTTP_201_CREATED,
     response_model=VehicleOut,
-    responses=error_responses(400, 401, 409, 413, 422),
+    responses={
+        **error_responses(400, 401, 413, 422),
+        **idempotent_responses(status.HTTP_201_CREATED),
+        **RATE_LIMITED_RESPONSE,
+    },
     summary="Register a vehicle with its seat layout",
 )
-def create_vehicle(body: VehicleIn, session: SessionDep, _station: StationDep) -> VehicleOut:
-    """Register a tricycle; a registration already on file (after normalising) answers 409."""
-    vehicle = register_vehicle(
+def create_vehicle(
+    body: VehicleIn,
+    session: SessionDep,
+    station: StationDep,
+    idempotency_key: IdempotencyKeyHeader = None,
+) -> Response:
+    """Register a tricycle; a registration already on file (after normalising) answers 409.
+
+    With an `Idempotency-Key`, a retry of a registration that was stored gets its 201 replayed.
+    """
+
+    def perform(remember: Remember) -> bytes:
+        answered: list[bytes] = []
+
+        def on_stored(db: Session, vehicle: Vehicle) -> None:
+            answered.append(vehicle_out(vehicle).model_dump_json().encode())
+            remember(db, answered[0])
+
+        register_vehicle(
+            session,
+            registration_number=body.registration_number,
+            make=body.make,
+            model=body.model,
+            model_year=body.model_year,
+            chassis_number=body.chassis_number,
+            wheelbase_m=body.wheelbase_m,
+            seats=[(seat.role, seat.x_m) for seat in body.seats],
+            on_stored=on_stored,
+        )
+        return answered[0]
+
+    return respond_once(
         session,
-        registration_number=body.registration_number,
-        make=body.make,
-        model=body.model,
-        model_year=body.model_year,
-        chassis_number=body.chassis_number,
-        wheelbase_m=body.wheelbase_m,
-        seats=[(seat.role, seat.x_m) for seat in body.seats],
+        station_id=station.id,
+        header=idempotency_key,
+        operation="POST /api/v1/vehicles",
+        payload=body.model_dump(mode="json"),
+        status_code=status.HTTP_201_CREATED,
+        perform=perform,
     )
-    return vehicle_out(vehicle)
 
 
 @router.get(
     "/{registration_number}",
     response_model=VehicleOut,
-    responses=error_responses(401, 404, 422),
+    responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
     summary="Find a vehicle by registration (case, spaces and hyphens ignored)",
 )
 def read_vehicle(

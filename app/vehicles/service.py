@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from decimal import Decimal
 
 from sqlalchemy import select
@@ -39,8 +40,13 @@ def register_vehicle(
     model_year: int | None = None,
     chassis_number: str | None = None,
     rules: Rules | None = None,
+    on_stored: Callable[[Session, Vehicle], None] | None = None,
 ) -> Vehicle:
-    """Store a new vehicle with its seat layout; a registration already on file is a conflict."""
+    """Store a new vehicle with its seat layout; a registration already on file is a conflict.
+
+    `on_stored(session, vehicle)` runs once the vehicle has its id, before the commit, so a caller
+    can store a row of its own in the same transaction (the API's idempotency key).
+    """
     rules = rules or Rules()
     key = normalise_registration(registration_number)
     if not key.isalnum() or not 2 <= len(key) <= 16:
@@ -65,6 +71,9 @@ def register_vehicle(
     )
     session.add(vehicle)
     try:
+        if on_stored is not None:
+            session.flush()
+            on_stored(session, vehicle)
         session.commit()
     except IntegrityError as error:  # a concurrent registration of the same number won the race
         session.rollback()

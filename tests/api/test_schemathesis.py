@@ -8,9 +8,11 @@ response_schema_conformance, response_headers_conformance, negative_data_rejecti
 missing_required_header, unsupported_method, allow_header_conformance, ignored_auth, ...; the
 stateful ones only act in stateful runs). One is narrowed, not disabled: positive_data_acceptance
 also accepts a 422 for a rule that relates several fields, which JSON Schema cannot state, once the
-request is shown to break it (see `refused_by_a_cross_field_rule`). Two checks are added: that
-narrowed one, and one that the station key is honoured, without which a key that never reached the
-app would pass everything (401 is an accepted answer to any request).
+request is shown to break it (see `refused_by_a_cross_field_rule`), or a 422 for an Idempotency-Key
+that this run sent before with another request. Two checks are added: that narrowed one, and one
+that the station key is honoured, without which a key that never reached the app would pass
+everything (401 is an accepted answer to any request). The station's rate limit is lifted for the run
+(it floods one key on purpose; tests/stations tests the limit).
 
 The run is deterministic (fixed seed, derandomized Hypothesis) and bounded (40 examples per
 operation and phase), so it is the same test on every CI run and takes seconds.
@@ -19,6 +21,8 @@ operation and phase), so it is the same test on every CI run and takes seconds.
 from __future__ import annotations
 
 import copy
+import json
+from collections.abc import Iterator
 from decimal import Decimal
 from fractions import Fraction
 from typing import Any
@@ -34,9 +38,11 @@ from schemathesis.generation import GenerationMode
 from schemathesis.specs.openapi.checks import positive_data_acceptance
 from sqlalchemy.orm import Session
 
+from app import config
 from app.main import create_app
 from app.stability import Rules
 from app.stations.models import Station
+from app.stations.scale import ScaleRules
 from app.stations.service import hash_key, new_key
 
 STUDY_VEHICLE: dict[str, Any] = {
@@ -57,6 +63,7 @@ STUDY_INSPECTION: dict[str, Any] = {
     "readings": {"front_kg": 108, "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359},
 }
 RULES = Rules()
+SCALE = ScaleRules()
 
 # A station key made for this run; the `on_file` fixture stores its hash as a station. Schemathesis signs
 # every request with it through the schema's HTTPBearer scheme, except the requests in which it
@@ -177,7 +184,38 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     if rule == "duplicate" and field.startswith("measured_cases["):
         counts = [case["occupants"] for case in body.get("measured_cases", [])]
         return len(counts) != len(set(counts))
+    if rule == "spread":  # repeated readings of one wheel that disagree: the scale had not settled
+        values = [_decimal(v) for v in _at(body, field)]
+        return max(values) - min(values) > Fraction(SCALE.max_spread_kg)
     return rule in {"front_wheel_lift", "rear_wheel_lift"}
+
+
+# Every Idempotency-Key this run sent, with the requests it went with: a 422 for reusing a key is
+# right only when the same key went earlier with another request.
+KEYS_SENT: dict[str, set[str]] = {}
+
+
+def _idempotency_key(case: schemathesis.Case[Any]) -> str | None:
+    for name, value in (case.headers or {}).items():
+        if name.lower() == "idempotency-key":
+            text = str(value)
+            return text[1:-1] if len(text) > 1 and text[0] == text[-1] == '"' else text
+    return None
+
+
+def _reused_key(case: schemathesis.Case[Any], problem: dict[str, str]) -> bool:
+    key = _idempotency_key(case)
+    if problem.get("rule") != "idempotency_key_reused" or key is None:
+        return False
+    request = json.dumps([case.operation.path, case.body], sort_keys=True, default=str)
+    return bool(KEYS_SENT.get(key, set()) - {request})
+
+
+def _note_key(case: schemathesis.Case[Any]) -> None:
+    key = _idempotency_key(case)
+    if key is not None:
+        request = json.dumps([case.operation.path, case.body], sort_keys=True, default=str)
+        KEYS_SENT.setdefault(key, set()).add(request)
 
 
 def positive_data_acceptance_with_cross_field_rules(
@@ -195,9 +233,13 @@ def positive_data_acceptance_with_cross_field_rules(
         if response.status_code != 422 or not isinstance(case.body, dict):
             raise
         problems = response.json().get("errors", [])
-        if not problems or not all(refused_by_a_cross_field_rule(case.body, p) for p in problems):
+        body = case.body
+        explained = [refused_by_a_cross_field_rule(body, p) or _reused_key(case, p) for p in problems]
+        if not problems or not all(explained):
             raise
         return None
+    finally:
+        _note_key(case)
 
 
 def the_station_key_is_honoured(
@@ -215,7 +257,17 @@ def the_station_key_is_honoured(
 
 
 @pytest.fixture
-def on_file(client: TestClient, session: Session) -> None:
+def no_rate_limit(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """The station rate limit lifted while the fuzzer floods one key."""
+    monkeypatch.setenv("TRIKECERT_STATION_RATE_LIMIT", "0")
+    config.get_settings.cache_clear()
+    yield
+    monkeypatch.undo()
+    config.get_settings.cache_clear()
+
+
+@pytest.fixture
+def on_file(client: TestClient, session: Session, no_rate_limit: None) -> None:
     """The run's station key, the study's vehicle and one inspection of it on file for this test."""
     session.add(Station(name="Schemathesis", key_hash=hash_key(STATION_KEY), key_prefix=STATION_KEY[:10]))
     session.commit()

@@ -56,3 +56,7 @@ def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClien
     assert 'trikecert_inspections{verdict="non_compliant"} 1.0' in body
     assert 'trikecert_inspections{verdict="compliant"} 0.0' in body
     assert "trikecert_http_request_duration_seconds_bucket" in body
+    assert 'trikecert_certificates{verdict="non_compliant"} 0.0' in body
+    issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
+    assert issued.status_code == 201
+    assert 'trikecert_certificates{verdict="non_compliant"} 1.0' in api.get("/metrics").text

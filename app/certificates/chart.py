@@ -1,0 +1,105 @@
+"""The LSF chart of the certificate, drawn with the PDF library's own vector primitives.
+
+x: the loading cases; y: LSF; a dashed line at the 2/3 limit, the region above it shaded
+"unstable"; each case a circle (C) or a cross (NC) with its letters beside it, so nothing is
+told by colour alone.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from fpdf import FPDF
+
+from app.certificates.facts import CaseFacts
+from app.stability import LSF_LIMIT
+
+LIMIT = float(LSF_LIMIT)
+STEP = 0.05
+
+
+@dataclass(frozen=True)
+class Box:
+    """The plotting area on the page (mm)."""
+
+    x: float
+    y: float
+    w: float
+    h: float
+
+
+def axis_range(values: Sequence[float]) -> tuple[float, float]:
+    """The y axis: 0.5 to 0.8, widened in steps of 0.05 to hold every value with a margin."""
+    low = min([0.5, *[v - 0.02 for v in values]])
+    high = max([0.8, *[v + 0.02 for v in values]])
+    return math.floor(low / STEP + 1e-9) * STEP, math.ceil(high / STEP - 1e-9) * STEP
+
+
+def short_label(occupants: int) -> str:
+    """The axis name of a case: None, Driver, +1, +2, ..."""
+    return {0: "None", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
+
+
+def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> None:
+    """Draw the chart of LSF per loading case against the limit inside `box`."""
+    values = [float(case.lsf) for case in cases]
+    low, high = axis_range(values)
+
+    def y_of(value: float) -> float:
+        return box.y + box.h * (high - value) / (high - low)
+
+    def x_of(index: int) -> float:
+        return box.x + box.w * (index + 0.5) / max(len(cases), 1)
+
+    limit_y = y_of(LIMIT)
+    pdf.set_fill_color(232, 232, 232)
+    pdf.rect(box.x, box.y, box.w, limit_y - box.y, style="F")
+    pdf.set_font("helvetica", "I", 8)
+    pdf.set_text_color(70, 70, 70)
+    pdf.text(box.x + 2, box.y + 4, "unstable (LSF at or above 2/3)")
+
+    pdf.set_draw_color(0, 0, 0)
+    pdf.set_line_width(0.3)
+    pdf.line(box.x, box.y, box.x, box.y + box.h)
+    pdf.line(box.x, box.y + box.h, box.x + box.w, box.y + box.h)
+    pdf.set_font("helvetica", "", 7)
+    pdf.set_text_color(0, 0, 0)
+    ticks = round((high - low) / STEP)
+    for i in range(ticks + 1):
+        value = low + i * STEP
+        pdf.line(box.x - 1.2, y_of(value), box.x, y_of(value))
+        pdf.text(box.x - 9, y_of(value) + 1, f"{value:.2f}")
+    pdf.text(box.x - 9, box.y - 3, "LSF")
+
+    pdf.set_dash_pattern(dash=1.5, gap=1)
+    pdf.set_line_width(0.4)
+    pdf.line(box.x, limit_y, box.x + box.w, limit_y)
+    pdf.set_dash_pattern()
+    pdf.set_font("helvetica", "B", 7)
+    pdf.text(box.x + box.w + 1.5, limit_y + 1, "limit 2/3")
+
+    pdf.set_line_width(0.2)
+    pdf.set_draw_color(120, 120, 120)
+    for i in range(1, len(cases)):
+        pdf.line(x_of(i - 1), y_of(values[i - 1]), x_of(i), y_of(values[i]))
+
+    pdf.set_draw_color(0, 0, 0)
+    pdf.set_line_width(0.45)
+    pdf.set_font("helvetica", "B", 7)
+    for i, case in enumerate(cases):
+        cx, cy = x_of(i), y_of(values[i])
+        if case.compliant:
+            pdf.circle(cx, cy, 1.4, style="D")
+        else:
+            pdf.line(cx - 1.4, cy - 1.4, cx + 1.4, cy + 1.4)
+            pdf.line(cx - 1.4, cy + 1.4, cx + 1.4, cy - 1.4)
+        pdf.text(cx + 2.2, cy + 1, "C" if case.compliant else "NC")
+        pdf.set_font("helvetica", "", 7)
+        label = short_label(case.occupants)
+        pdf.text(cx - pdf.get_string_width(label) / 2, box.y + box.h + 4, label)
+        pdf.set_font("helvetica", "B", 7)
+    pdf.set_font("helvetica", "", 7)
+    pdf.text(box.x + box.w / 2 - 10, box.y + box.h + 8.5, "Loading case (occupants)")
+    pdf.set_line_width(0.2)

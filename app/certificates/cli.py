@@ -1,0 +1,152 @@
+"""The certificate sub-commands of `trikecert`: verify offline, issue, reissue, revoke, keys."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import urllib.request
+from datetime import date
+from pathlib import Path
+from typing import Any
+
+from app.config import get_settings
+from app.db import get_sessionmaker
+from app.errors import InvalidInput
+
+
+def load_keys(source: str | None) -> dict[str, Any]:
+    """A published key set from a saved file, an http(s) URL, or (None) this service's database."""
+    if source is None:
+        from app.certificates.keys import published_keys
+
+        with get_sessionmaker()() as session:
+            return published_keys(session, get_settings())
+    if source.startswith(("http://", "https://")):
+        with urllib.request.urlopen(source, timeout=10) as answer:  # noqa: S310 (scheme checked above)
+            data: Any = json.load(answer)
+    else:
+        try:
+            data = json.loads(Path(source).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as error:
+            raise InvalidInput(f"--keys: cannot read a key set from {source}: {error}") from error
+    if not isinstance(data, dict) or not isinstance(data.get("keys"), list):
+        raise InvalidInput(f"--keys: {source} is not a key set (a JSON object with a 'keys' list)")
+    return data
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    """Check a QR payload or verify URL offline; exit 1 with the reason when it is not genuine."""
+    from app.certificates.facts import occupancy_words
+    from app.certificates.records import verify_base
+    from app.certificates.signing import PayloadRefused, verify_input
+
+    try:
+        verified = verify_input(args.payload, load_keys(args.keys))
+    except PayloadRefused as refused:
+        print(f"trikecert: NOT GENUINE ({refused.reason}): {refused.message}", file=sys.stderr)
+        return 1
+    claims = verified.claims
+    print(f"GENUINE: signed by key {verified.kid}")
+    print(f"certificate {claims.number} for {claims.registration}")
+    print(f"verdict {claims.verdict}; certified maximum occupancy: {occupancy_words(claims.max_occupants)}")
+    print(f"issued {claims.issued.isoformat()}, expires {claims.expires.isoformat()}")
+    if claims.expires < date.today():
+        print("note: this certificate has EXPIRED")
+    print(f"revocation and replacement show online only: {verify_base(get_settings())}/{claims.number}")
+    return 0
+
+
+def cmd_issue(args: argparse.Namespace) -> int:
+    """Issue the certificate of an inspection as an administrator."""
+    from app.certificates.actors import Actor
+    from app.certificates.service import issue_certificate
+
+    with get_sessionmaker()() as session:
+        issued = issue_certificate(
+            session, inspection_id=args.inspection_id, actor=Actor.of_cli(), settings=get_settings()
+        )
+        certificate = issued.certificate
+        print(
+            f"{'issued' if issued.created else 'already issued'}: {certificate.number} ({certificate.kind})"
+        )
+    return 0
+
+
+def cmd_reissue(args: argparse.Namespace) -> int:
+    """Reissue a certificate (same inspection and expiry), superseding it."""
+    from app.certificates.actors import Actor
+    from app.certificates.service import reissue_certificate
+
+    with get_sessionmaker()() as session:
+        new = reissue_certificate(
+            session, number=args.number, actor=Actor.of_cli(), reason=args.reason, settings=get_settings()
+        )
+        print(f"reissued as {new.number}; {args.number} is superseded")
+    return 0
+
+
+def cmd_revoke(args: argparse.Namespace) -> int:
+    """Revoke a certificate for good, with a reason, recorded as done by cli:<os user>."""
+    from app.certificates.actors import Actor
+    from app.certificates.service import revoke_certificate
+
+    with get_sessionmaker()() as session:
+        certificate = revoke_certificate(
+            session, number=args.number, actor=Actor.of_cli(), reason=args.reason
+        )
+        print(f"revoked {certificate.number}: {args.reason}")
+    return 0
+
+
+def cmd_rotate(_args: argparse.Namespace) -> int:
+    """Retire the active signing key and make a new one; old keys stay published."""
+    from app.certificates.keys import rotate_signing_key
+
+    with get_sessionmaker()() as session:
+        key = rotate_signing_key(session, get_settings())
+        print(f"new signing key {key.kid}; earlier keys stay published so old certificates still verify")
+    return 0
+
+
+def cmd_keys(args: argparse.Namespace) -> int:
+    """Print (or save) the published key set, for offline verification."""
+    text = json.dumps(load_keys(None), indent=2)
+    if args.output:
+        Path(args.output).write_text(text + "\n", encoding="utf-8")
+        print(f"saved the published keys to {args.output}")
+    else:
+        print(text)
+    return 0
+
+
+def add_certificate_commands(commands: Any) -> None:
+    """Add the certificate sub-commands to the `trikecert` parser's sub-parsers."""
+    verify = commands.add_parser("verify", help="check a certificate's QR payload (or verify URL) offline")
+    verify.add_argument("payload", metavar="PAYLOAD_OR_URL")
+    verify.add_argument(
+        "--keys", metavar="FILE_OR_URL", help="published keys (default: this database's keys)"
+    )
+    verify.set_defaults(handler=cmd_verify)
+
+    issue = commands.add_parser("issue-certificate", help="issue an inspection's certificate (admin)")
+    issue.add_argument("inspection_id", type=int)
+    issue.set_defaults(handler=cmd_issue)
+
+    reissue = commands.add_parser("reissue-certificate", help="reissue a certificate, superseding it (admin)")
+    reissue.add_argument("number")
+    reissue.add_argument("--reason", required=True)
+    reissue.set_defaults(handler=cmd_reissue)
+
+    revoke = commands.add_parser("revoke-certificate", help="revoke a certificate for good (admin)")
+    revoke.add_argument("number")
+    revoke.add_argument("--reason", required=True)
+    revoke.set_defaults(handler=cmd_revoke)
+
+    commands.add_parser(
+        "rotate-signing-key", help="make a new signing key; old ones stay published"
+    ).set_defaults(handler=cmd_rotate)
+
+    keys = commands.add_parser("signing-keys", help="print or save the published keys (for offline checks)")
+    keys.add_argument("--output", metavar="FILE")
+    keys.set_defaults(handler=cmd_keys)

@@ -1,0 +1,238 @@
+"""What a certificate certifies, frozen at issue time: vehicle, inspection, readings, Table 4, verdict.
+
+The snapshot is stored with the certificate (JSON, decimals as text) and is what the PDF and the
+public verify page show, so a later change to a vehicle or an inspection never alters a certificate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from datetime import datetime
+from decimal import Decimal
+from typing import Any
+
+from sqlalchemy.orm import Session
+
+from app.accounts.models import User
+from app.inspections.models import Inspection
+from app.inspections.wording import passengers, verdict_sentence
+from app.stability import case_label
+
+WHEEL_NAMES = {
+    "front_kg": "Front wheel",
+    "left_rear_kg": "Left rear wheel",
+    "right_rear_kg": "Right rear wheel",
+    "overall_kg": "Overall weight",
+}
+
+
+def occupancy_words(max_compliant_occupants: int) -> str:
+    """The certified maximum occupancy in words: 'driver only', 'driver and two passengers'."""
+    if max_compliant_occupants <= 0:
+        return "none (not stable even with the driver alone)"
+    if max_compliant_occupants == 1:
+        return "driver only"
+    return f"driver and {passengers(max_compliant_occupants - 1)}"
+
+
+@dataclass(frozen=True)
+class VehicleFacts:
+    """The vehicle as registered when the certificate was issued."""
+
+    registration_number: str
+    make: str
+    model: str
+    model_year: int | None
+    chassis_number: str | None
+
+
+@dataclass(frozen=True)
+class InspectionFacts:
+    """Where, when and by whom the vehicle was weighed."""
+
+    id: int
+    weighed_at: datetime
+    station: str | None
+    officer: str | None
+    scale_calibration: str | None
+    rules_version: str
+    occupant_mass_kg: Decimal
+
+
+@dataclass(frozen=True)
+class ReadingFacts:
+    """One wheel's averaged reading and the spread of its repeated readings (kg)."""
+
+    wheel: str
+    name: str
+    mean_kg: Decimal
+    count: int
+    spread_kg: Decimal
+
+
+@dataclass(frozen=True)
+class CaseFacts:
+    """One row of Table 4 as decided at inspection time."""
+
+    occupants: int
+    label: str
+    total_kg: Decimal
+    rear_kg: Decimal
+    lsf: Decimal
+    variance: Decimal
+    compliant: bool
+    measured: bool
+
+
+@dataclass(frozen=True)
+class Facts:
+    """Everything a certificate states about the vehicle and its verdict."""
+
+    authority: str
+    vehicle: VehicleFacts
+    inspection: InspectionFacts
+    readings: tuple[ReadingFacts, ...]
+    cases: tuple[CaseFacts, ...]
+    compliant: bool
+    max_compliant_occupants: int
+    verdict: str
+    occupancy: str
+
+    @property
+    def failing_cases(self) -> tuple[CaseFacts, ...]:
+        """The loading cases that do not comply."""
+        return tuple(case for case in self.cases if not case.compliant)
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dict: decimals and times as text."""
+        plain: dict[str, Any] = _plain(asdict(self))
+        return plain
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> Facts:
+        """The facts back from their stored JSON."""
+        inspection = dict(data["inspection"])
+        inspection["weighed_at"] = datetime.fromisoformat(inspection["weighed_at"])
+        inspection["occupant_mass_kg"] = Decimal(inspection["occupant_mass_kg"])
+        return cls(
+            authority=data["authority"],
+            vehicle=VehicleFacts(**data["vehicle"]),
+            inspection=InspectionFacts(**inspection),
+            readings=tuple(
+                ReadingFacts(
+                    wheel=r["wheel"],
+                    name=r["name"],
+                    mean_kg=Decimal(r["mean_kg"]),
+                    count=r["count"],
+                    spread_kg=Decimal(r["spread_kg"]),
+                )
+                for r in data["readings"]
+            ),
+            cases=tuple(
+                CaseFacts(
+                    occupants=c["occupants"],
+                    label=c["label"],
+                    total_kg=Decimal(c["total_kg"]),
+                    rear_kg=Decimal(c["rear_kg"]),
+                    lsf=Decimal(c["lsf"]),
+                    variance=Decimal(c["variance"]),
+                    compliant=c["compliant"],
+                    measured=c["measured"],
+                )
+                for c in data["cases"]
+            ),
+            compliant=data["compliant"],
+            max_compliant_occupants=data["max_compliant_occupants"],
+            verdict=data["verdict"],
+            occupancy=data["occupancy"],
+        )
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(item) for item in value]
+    if isinstance(value, Decimal):
+        return str(value)
+    if isinstance(value, datetime):
+        return value.isoformat()
+    return value
+
+
+def _readings(inspection: Inspection) -> tuple[ReadingFacts, ...]:
+    means = {
+        "front_kg": inspection.front_kg,
+        "left_rear_kg": inspection.left_rear_kg,
+        "right_rear_kg": inspection.right_rear_kg,
+        "overall_kg": inspection.overall_kg,
+    }
+    raw: dict[str, list[Decimal]] = {}
+    for reading in inspection.readings:
+        if reading.case_occupants == 0:
+            raw.setdefault(reading.wheel, []).append(reading.value_kg)
+    return tuple(
+        ReadingFacts(
+            wheel=wheel,
+            name=name,
+            mean_kg=mean,
+            count=len(raw[wheel]),
+            spread_kg=max(raw[wheel]) - min(raw[wheel]),
+        )
+        for wheel, name in WHEEL_NAMES.items()
+        if (mean := means[wheel]) is not None and raw.get(wheel)
+    )
+
+
+def _calibration(inspection: Inspection) -> str | None:
+    certificate = inspection.calibration_certificate
+    if certificate is None:
+        return None
+    until = inspection.calibration_valid_until
+    return f"{certificate} (valid until {until.isoformat()})" if until else certificate
+
+
+def facts_of(session: Session, inspection: Inspection, *, authority: str) -> Facts:
+    """The snapshot of an inspection's facts to certify."""
+    vehicle = inspection.vehicle
+    officer = session.get(User, inspection.user_id) if inspection.user_id is not None else None
+    cases = tuple(
+        CaseFacts(
+            occupants=row.occupants,
+            label=case_label(row.occupants),
+            total_kg=row.total_kg,
+            rear_kg=row.rear_kg,
+            lsf=row.lsf,
+            variance=row.variance,
+            compliant=row.compliant,
+            measured=row.measured,
+        )
+        for row in inspection.loading_cases
+    )
+    return Facts(
+        authority=authority,
+        vehicle=VehicleFacts(
+            registration_number=vehicle.registration_number,
+            make=vehicle.make,
+            model=vehicle.model,
+            model_year=vehicle.model_year,
+            chassis_number=vehicle.chassis_number,
+        ),
+        inspection=InspectionFacts(
+            id=inspection.id,
+            weighed_at=inspection.created_at,
+            station=inspection.station.name if inspection.station else None,
+            officer=officer.email if officer else None,
+            scale_calibration=_calibration(inspection),
+            rules_version=inspection.rules_version,
+            occupant_mass_kg=inspection.occupant_mass_kg,
+        ),
+        readings=_readings(inspection),
+        cases=cases,
+        compliant=inspection.compliant,
+        max_compliant_occupants=inspection.max_compliant_occupants,
+        verdict=verdict_sentence(
+            [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
+        ),
+        occupancy=occupancy_words(inspection.max_compliant_occupants),
+    )

@@ -1,0 +1,100 @@
+"""Certificate actions in the officers' pages: issue from an inspection, download the PDF, revoke (admins)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Header, Path
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.sessions import set_flash
+from app.certificates.actors import Actor
+from app.certificates.models import Certificate
+from app.certificates.pdf_response import pdf_response
+from app.certificates.records import certificate_facts, certificate_status, get_certificate
+from app.certificates.service import issue_certificate, revoke_certificate
+from app.certificates.views import HEADLINES
+from app.config import get_settings
+from app.errors import ServiceError
+from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+NumberPath = Annotated[str, Path(max_length=60)]
+
+
+def certificate_page(
+    request: Request, certificate: Certificate, *, errors: dict[str, str] | None = None, reason: str = ""
+) -> Response:
+    """The certificate as the public sees it, with the officer's download link and the admin's revoke form."""
+    status = certificate_status(certificate)
+    facts = certificate_facts(certificate)
+    return render(
+        request,
+        "certificates/verify.html",
+        {
+            "certificate": certificate,
+            "facts": facts,
+            "rows": facts.cases,
+            "status": status,
+            "headline": HEADLINES[status],
+            "payload": None,
+            "officer": True,
+            "errors": errors or {},
+            "values": {"reason": reason},
+        },
+        status_code=422 if errors else 200,
+    )
+
+
+@router.post("/inspections/{inspection_id}/certificate")
+def issue_from_page(inspection_id: int, session: SessionDep, login: PostLogin) -> Response:
+    """Issue (or find) the inspection's certificate, then show it."""
+    try:
+        issued = issue_certificate(
+            session, inspection_id=inspection_id, actor=Actor.of_user(login.user), settings=get_settings()
+        )
+    except ServiceError as error:
+        set_flash(session, login, error.message.split(": ", 1)[-1])
+        return RedirectResponse(f"/inspections/{inspection_id}", status_code=303)
+    number = issued.certificate.number
+    set_flash(
+        session, login, f"Certificate {number} issued." if issued.created else f"Already certified: {number}."
+    )
+    return RedirectResponse(f"/certificates/{number}", status_code=303)
+
+
+@router.get("/certificates/{number}")
+def officer_certificate_page(
+    request: Request, number: NumberPath, session: SessionDep, _login: CurrentLogin
+) -> Response:
+    """The certificate with its status, a PDF download and (for admins) the revoke form."""
+    return certificate_page(request, get_certificate(session, number))
+
+
+@router.get("/certificates/{number}/pdf")
+def officer_certificate_pdf(
+    number: NumberPath,
+    session: SessionDep,
+    _login: CurrentLogin,
+    if_none_match: Annotated[str | None, Header(max_length=1000)] = None,
+) -> Response:
+    """The stored PDF, as the station API serves it (ETag, 304)."""
+    return pdf_response(session, get_certificate(session, number), if_none_match)
+
+
+@router.post("/certificates/{number}/revoke")
+def revoke_from_page(
+    request: Request, number: NumberPath, session: SessionDep, login: PostLogin, form: FormDep
+) -> Response:
+    """Revoke with a reason (administrators only), then show the certificate."""
+    certificate = get_certificate(session, number)
+    reason = str(form.get("reason") or "")
+    if not reason.strip():
+        return certificate_page(
+            request, certificate, errors={"reason": "Enter the reason for revoking this certificate"}
+        )
+    revoke_certificate(session, number=certificate.number, actor=Actor.of_user(login.user), reason=reason)
+    set_flash(session, login, f"Certificate {certificate.number} revoked.")
+    return RedirectResponse(f"/certificates/{certificate.number}", status_code=303)

@@ -1,0 +1,284 @@
+"""Issue, reissue and revoke certificates; every door (API, pages, CLI) calls these.
+
+Issuing allocates the year's next number first: that serialises issuers (sequence.py), so the
+rules below are checked against every certificate already committed. A vehicle's certificates
+form a chain: each new one supersedes the vehicle's current one (not revoked, not superseded).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from datetime import datetime
+from typing import Literal
+
+from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from app.certificates.actors import Actor, Forbidden
+from app.certificates.facts import facts_of
+from app.certificates.keys import current_signer
+from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
+from app.certificates.numbers import parse_number
+from app.certificates.pdf import CertificateDocument, render_pdf
+from app.certificates.records import certificate_status, get_certificate, verify_base
+from app.certificates.sequence import allocate_number
+from app.certificates.signing import Claims, sign_claims
+from app.certificates.validity import add_months, local_date
+from app.config import Settings
+from app.db import utcnow
+from app.errors import Conflict, InvalidInput
+from app.inspections.models import Inspection
+from app.inspections.service import get_inspection
+
+
+@dataclass(frozen=True)
+class Issued:
+    """The certificate for an inspection, and whether this call created it."""
+
+    certificate: Certificate
+    created: bool
+
+
+def _current_of_vehicle(session: Session, vehicle_id: int) -> Certificate | None:
+    """The vehicle's certificate that is neither revoked nor superseded (at most one), freshly read."""
+    newer = select(Certificate.supersedes_id).where(Certificate.supersedes_id.is_not(None))
+    query = (
+        select(Certificate)
+        .where(Certificate.vehicle_id == vehicle_id, Certificate.revocation == None)  # noqa: E711
+        .where(Certificate.id.not_in(newer))
+        .order_by(Certificate.id.desc())
+        .execution_options(populate_existing=True)
+    )
+    return session.scalars(query).first()
+
+
+def issue_certificate(
+    session: Session, *, inspection_id: int, actor: Actor, settings: Settings, now: datetime | None = None
+) -> Issued:
+    """Certify an inspection (a refusal when it is not compliant); the existing one if already certified.
+
+    A station may certify only its own inspections. A newer certified inspection of the same
+    vehicle, or a revoked certificate of this one, is a 409: weigh the vehicle again.
+    """
+    now = now or utcnow()
+    inspection = get_inspection(session, inspection_id, station_id=actor.station_id)
+    number = allocate_number(session, now.year)
+    current = _current_of_vehicle(session, inspection.vehicle_id)
+    if current is not None and current.inspection_id == inspection.id:
+        session.rollback()
+        if certificate_status(current, now) == "expired":
+            raise Conflict(
+                f"inspection_id: certificate {current.number} of this inspection has expired; "
+                "weigh the vehicle again",
+                field="inspection_id",
+                rule="expired",
+            )
+        return Issued(certificate=current, created=False)
+    revoked = session.scalar(
+        select(Certificate.number)
+        .where(Certificate.inspection_id == inspection.id, Certificate.revocation != None)  # noqa: E711
+        .limit(1)
+    )
+    if revoked is not None:
+        session.rollback()
+        raise Conflict(
+            f"inspection_id: certificate {revoked} of this inspection was revoked; weigh the vehicle again",
+            field="inspection_id",
+            rule="revoked",
+        )
+    if current is not None:
+        shown = session.get(Inspection, current.inspection_id)
+        assert shown is not None
+        if (shown.created_at, shown.id) > (inspection.created_at, inspection.id):
+            session.rollback()
+            raise Conflict(
+                f"inspection_id: a newer inspection of this vehicle is already certified ({current.number})",
+                field="inspection_id",
+                rule="newer_certified",
+            )
+    expires_at = add_months(now, settings.certificate_validity_months)
+    certificate = _create(
+        session,
+        number=str(number),
+        inspection=inspection,
+        actor=actor,
+        settings=settings,
+        issued_at=now,
+        expires_at=expires_at,
+        supersedes=current,
+        action="issue",
+        reason=None,
+    )
+    return Issued(certificate=certificate, created=True)
+
+
+def reissue_certificate(
+    session: Session,
+    *,
+    number: str,
+    actor: Actor,
+    reason: str,
+    settings: Settings,
+    now: datetime | None = None,
+) -> Certificate:
+    """A new certificate for the same inspection that supersedes this one, keeping its expiry (admins)."""
+    if not actor.admin:
+        raise Forbidden("only an administrator may reissue a certificate", field="actor", rule="admin")
+    reason = _reason(reason)
+    now = now or utcnow()
+    old = get_certificate(session, number)
+    allocated = allocate_number(session, now.year)
+    session.refresh(old)
+    status = certificate_status(old, now)
+    if status != "issued":
+        session.rollback()
+        raise Conflict(
+            f"number: certificate {old.number} is {status}; only a current one can be reissued",
+            field="number",
+            rule=status,
+        )
+    inspection = session.get(Inspection, old.inspection_id)
+    assert inspection is not None
+    return _create(
+        session,
+        number=str(allocated),
+        inspection=inspection,
+        actor=actor,
+        settings=settings,
+        issued_at=now,
+        expires_at=old.expires_at,
+        supersedes=old,
+        action="reissue",
+        reason=reason,
+    )
+
+
+def revoke_certificate(
+    session: Session, *, number: str, actor: Actor, reason: str, now: datetime | None = None
+) -> Certificate:
+    """Revoke a certificate for good, with a reason, by an administrator; recorded in the audit log."""
+    if not actor.admin:
+        raise Forbidden("only an administrator may revoke a certificate", field="actor", rule="admin")
+    reason = _reason(reason)
+    certificate = get_certificate(session, number)
+    if certificate.revocation is not None:
+        raise Conflict(
+            f"number: certificate {certificate.number} is already revoked", field="number", rule="revoked"
+        )
+    at = now or utcnow()
+    session.add(
+        CertificateRevocation(
+            certificate_id=certificate.id, revoked_at=at, revoked_by=actor.label, reason=reason
+        )
+    )
+    session.add(
+        CertificateAudit(
+            certificate_id=certificate.id, action="revoke", actor=actor.label, at=at, reason=reason
+        )
+    )
+    try:
+        session.commit()
+    except IntegrityError as error:  # revoked at the same moment by someone else
+        session.rollback()
+        raise Conflict(
+            f"number: certificate {certificate.number} is already revoked", field="number", rule="revoked"
+        ) from error
+    session.refresh(certificate)
+    return certificate
+
+
+def _reason(reason: str) -> str:
+    reason = " ".join(reason.split())
+    if not reason:
+        raise InvalidInput("reason: say why, in a few words", field="reason", rule="required")
+    if len(reason) > 1000:
+        raise InvalidInput("reason: keep it under 1000 characters", field="reason", rule="max_length")
+    return reason
+
+
+def _create(
+    session: Session,
+    *,
+    number: str,
+    inspection: Inspection,
+    actor: Actor,
+    settings: Settings,
+    issued_at: datetime,
+    expires_at: datetime,
+    supersedes: Certificate | None,
+    action: Literal["issue", "reissue"],
+    reason: str | None,
+) -> Certificate:
+    """Sign, render and store a certificate with its audit entries, and commit."""
+    facts = facts_of(session, inspection, authority=settings.issuing_authority)
+    kind = "compliant" if facts.compliant else "refusal"
+    signer = current_signer(session, settings)
+    claims = Claims(
+        number=number,
+        registration=facts.vehicle.registration_number,
+        issued=local_date(issued_at),
+        expires=local_date(expires_at),
+        verdict="C" if facts.compliant else "NC",
+        max_occupants=facts.max_compliant_occupants,
+    )
+    token = sign_claims(claims, kid=signer.kid, key=signer.key)
+    base = verify_base(settings)
+    pdf = render_pdf(
+        CertificateDocument(
+            number=number,
+            kind=kind,
+            issued_at=issued_at,
+            expires_at=expires_at,
+            facts=facts,
+            verify_url=base,
+            qr_url=f"{base}/{number}?p={token}",
+        )
+    )
+    number_parts = parse_number(number)
+    certificate = Certificate(
+        number=number,
+        year=number_parts.year,
+        sequence=number_parts.sequence,
+        kind=kind,
+        inspection_id=inspection.id,
+        vehicle_id=inspection.vehicle_id,
+        registration_number=facts.vehicle.registration_number,
+        compliant=facts.compliant,
+        max_compliant_occupants=facts.max_compliant_occupants,
+        issued_at=issued_at,
+        expires_at=expires_at,
+        issued_by=actor.label,
+        issued_by_station_id=actor.station_id,
+        issued_by_user_id=actor.user_id,
+        supersedes=supersedes,
+        facts=facts.to_json(),
+        key_id=signer.kid,
+        qr_payload=token,
+        pdf=pdf,
+        pdf_sha256=_sha256(pdf),
+    )
+    session.add(certificate)
+    session.flush()
+    session.add(
+        CertificateAudit(
+            certificate_id=certificate.id, action=action, actor=actor.label, at=issued_at, reason=reason
+        )
+    )
+    if supersedes is not None:
+        session.add(
+            CertificateAudit(
+                certificate_id=supersedes.id,
+                action="supersede",
+                actor=actor.label,
+                at=issued_at,
+                reason=f"superseded by {number}" + (f": {reason}" if reason else ""),
+            )
+        )
+    session.commit()
+    return certificate
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()

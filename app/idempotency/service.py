@@ -1,0 +1,130 @@
+"""Claim, look up, remember and prune idempotency keys; one key per station, kept at least 24 hours.
+
+Concurrency: on PostgreSQL a transaction-scoped advisory lock on (station, key) is taken before the
+key is looked up, so a duplicate that arrives while the first request still runs is told 409 at
+once. SQLite has a single writer: a duplicate waits for the first to commit, then its own insert of
+the key fails and it is answered with the stored response instead.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import secrets
+from dataclasses import dataclass
+from datetime import datetime, timedelta
+from typing import Any
+
+from sqlalchemy import delete, func, select
+from sqlalchemy.orm import Session
+
+from app.db import utcnow
+from app.errors import Conflict, InvalidInput
+from app.idempotency.models import IdempotencyKey
+
+logger = logging.getLogger("trikecert.idempotency")
+KEY_FIELD = "Idempotency-Key"
+PRUNE_ONE_IN = 200  # about one stored key in this many also prunes the expired ones
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A station's use of a key for one request: which operation, and a hash of what it asked."""
+
+    station_id: int
+    key: str
+    operation: str
+    request_hash: str
+
+
+def request_hash(operation: str, payload: Any) -> str:
+    """SHA-256 of the operation and the validated body as canonical JSON (key order and spacing ignored)."""
+    canonical = json.dumps([operation, payload], sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return hashlib.sha256(canonical.encode()).hexdigest()
+
+
+class KeyInFlight(Conflict):
+    """A request with this key is still being processed (409); retrying later gets its answer."""
+
+    def __init__(self) -> None:
+        super().__init__(
+            f"{KEY_FIELD}: a request with this key is still being processed; "
+            "retry in a moment to get its answer",
+            field=KEY_FIELD,
+            rule="idempotency_key_in_flight",
+        )
+        self.headers = {"Retry-After": "1"}
+
+
+class KeyReused(InvalidInput):
+    """The key was already used for a different request (422); a new request needs a new key."""
+
+    def __init__(self, stored: IdempotencyKey) -> None:
+        super().__init__(
+            f"{KEY_FIELD}: this key was already used by this station for a different request "
+            f"({stored.operation} at {stored.created_at:%Y-%m-%dT%H:%M:%SZ}); "
+            "send a new key with each new request",
+            field=KEY_FIELD,
+            rule="idempotency_key_reused",
+        )
+
+
+def _lock_id(claim: Claim) -> int:
+    digest = hashlib.sha256(f"idempotency-key:{claim.station_id}:{claim.key}".encode()).digest()
+    return int.from_bytes(digest[:8], "big", signed=True)
+
+
+def try_lock(session: Session, claim: Claim) -> bool:
+    """Hold (station, key) for this transaction: False when another transaction holds it (PostgreSQL only)."""
+    if session.get_bind().dialect.name != "postgresql":
+        return True
+    return bool(session.scalar(select(func.pg_try_advisory_xact_lock(_lock_id(claim)))))
+
+
+def stored_answer(session: Session, claim: Claim, *, retention: timedelta) -> IdempotencyKey | None:
+    """The answer stored under this station's key, or None; a key older than `retention` is forgotten."""
+    stored = session.get(IdempotencyKey, (claim.station_id, claim.key), populate_existing=True)
+    if stored is not None and stored.created_at < utcnow() - retention:
+        session.delete(stored)
+        session.flush()
+        return None
+    return stored
+
+
+def check_same_request(claim: Claim, stored: IdempotencyKey) -> None:
+    """KeyReused unless the stored key came with the same operation and body."""
+    if stored.operation != claim.operation or stored.request_hash != claim.request_hash:
+        raise KeyReused(stored)
+
+
+def remember(session: Session, claim: Claim, *, status_code: int, body: bytes) -> None:
+    """Add the key and its answer to the session's transaction (the caller's commit stores both)."""
+    session.add(
+        IdempotencyKey(
+            station_id=claim.station_id,
+            key=claim.key,
+            operation=claim.operation,
+            request_hash=claim.request_hash,
+            status_code=status_code,
+            response_body=body.decode(),
+        )
+    )
+
+
+def prune(session: Session, *, older_than: datetime) -> int:
+    """Delete the keys stored before `older_than` and commit; how many went."""
+    result = session.execute(delete(IdempotencyKey).where(IdempotencyKey.created_at < older_than))
+    session.commit()
+    return int(getattr(result, "rowcount", 0) or 0)
+
+
+def maybe_prune(session: Session, *, retention: timedelta) -> None:
+    """Now and then (one call in PRUNE_ONE_IN), prune expired keys; a failure is logged, never raised."""
+    if secrets.randbelow(PRUNE_ONE_IN):
+        return
+    try:
+        prune(session, older_than=utcnow() - retention)
+    except Exception:  # pruning is housekeeping: the answer was already stored
+        session.rollback()
+        logger.exception("pruning expired idempotency keys failed")

@@ -1,0 +1,78 @@
+"""In the officers' pages: issue an inspection's certificate, download its PDF, and (admins) revoke it."""
+
+from __future__ import annotations
+
+from certificate_helpers import register, weigh
+from fastapi.testclient import TestClient
+from sqlalchemy.orm import Session
+from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, hidden, sign_in
+
+from app.accounts.service import create_user
+
+
+def signed_in(client: TestClient, session: Session, role: str) -> str:
+    email = ADMIN_EMAIL if role == "admin" else OFFICER_EMAIL
+    create_user(session, email=email, password=PASSWORD, role=role)
+    assert sign_in(client, email).status_code == 303
+    return hidden(client.get("/").text)
+
+
+def issue_from_page(api: TestClient, session: Session, role: str) -> tuple[str, str]:
+    register(api)
+    inspection_id = weigh(api)
+    api.headers.pop("Authorization")
+    token = signed_in(api, session, role)
+    issued = api.post(
+        f"/inspections/{inspection_id}/certificate", data={"csrf_token": token}, follow_redirects=False
+    )
+    assert issued.status_code == 303
+    return issued.headers["location"], token
+
+
+def test_an_officer_issues_a_certificate_and_downloads_its_pdf(api: TestClient, session: Session) -> None:
+    location, _token = issue_from_page(api, session, "officer")
+    page = api.get(location)
+    assert page.status_code == 200
+    assert "Certificate TRK-" in page.text
+    assert "issued." in page.text
+    assert "<h1>VALID</h1>" in page.text
+    assert "Download the PDF" in page.text
+    assert "Revoke this certificate" not in page.text
+    pdf = api.get(f"{location}/pdf")
+    assert pdf.status_code == 200
+    assert pdf.content.startswith(b"%PDF-")
+    assert api.get(f"{location}/pdf", headers={"If-None-Match": pdf.headers["etag"]}).status_code == 304
+
+
+def test_a_form_post_without_the_csrf_token_issues_nothing(api: TestClient, session: Session) -> None:
+    register(api)
+    inspection_id = weigh(api)
+    api.headers.pop("Authorization")
+    signed_in(api, session, "officer")
+    assert api.post(f"/inspections/{inspection_id}/certificate", data={}).status_code == 403
+
+
+def test_an_admin_revokes_with_a_reason_and_the_public_page_says_revoked(
+    api: TestClient, session: Session
+) -> None:
+    location, token = issue_from_page(api, session, "admin")
+    number = location.rsplit("/", 1)[1]
+    assert "Revoke this certificate" in api.get(location).text
+    missing = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "  "})
+    assert missing.status_code == 422
+    assert "Enter the reason" in missing.text
+    done = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "Forged weighbridge ticket"})
+    assert done.status_code == 200
+    assert "<h1>REVOKED</h1>" in done.text
+    api.cookies.clear()
+    public = api.get(f"/verify/{number}")
+    assert "<h1>REVOKED</h1>" in public.text
+    assert "Forged weighbridge ticket" in public.text
+    assert "Download the PDF" not in public.text
+
+
+def test_an_officer_cannot_revoke(api: TestClient, session: Session) -> None:
+    location, token = issue_from_page(api, session, "officer")
+    refused = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "I would like to"})
+    assert refused.status_code == 403
+    assert "<h1>VALID</h1>" in api.get(location).text

@@ -1,0 +1,103 @@
+"""The public page /verify: anyone, without signing in or JavaScript, sees a certificate's status."""
+
+from __future__ import annotations
+
+from datetime import timedelta
+from typing import Any
+
+import pytest
+from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, study_certificate, weigh
+from fastapi.testclient import TestClient
+from sqlalchemy.orm import Session
+
+from app.certificates.actors import Actor
+from app.certificates.numbers import CertificateNumber
+from app.certificates.service import issue_certificate
+from app.config import get_settings
+from app.db import utcnow
+
+
+@pytest.fixture
+def issued(api: TestClient) -> dict[str, Any]:
+    body = study_certificate(api)
+    api.headers.pop("Authorization")  # the page is public
+    return body
+
+
+def test_a_current_certificate_shows_valid_the_vehicle_and_table_4(
+    issued: dict[str, Any], client: TestClient
+) -> None:
+    page = client.get(f"/verify/{issued['number']}")
+    assert page.status_code == 200
+    html = page.text
+    assert "<h1>VALID</h1>" in html
+    assert "BDG 252 QH" in html
+    assert "Bajaj" in html
+    assert 'Certified maximum occupancy: <strong id="occupancy">driver only</strong>' in html
+    assert "Not compliant. Laterally stable with the driver alone" in html
+    assert "Weight on rear wheels (kg)" in html
+    assert "0.696" in html
+    assert "+0.009" in html
+    assert "<script" not in html
+    assert page.headers["cache-control"] == "no-store"
+
+
+def test_the_qr_url_shows_whether_its_signature_checks_out(
+    issued: dict[str, Any], client: TestClient
+) -> None:
+    genuine = client.get(issued["qr_url"].removeprefix("http://127.0.0.1:8000"))
+    assert "QR code genuine" in genuine.text
+    token = issued["qr_payload"]
+    forged = token[:40] + ("A" if token[40] != "A" else "B") + token[41:]
+    page = client.get(f"/verify/{issued['number']}", params={"p": forged})
+    assert page.status_code == 200
+    assert "QR code NOT genuine" in page.text
+
+
+def test_an_unknown_or_mistyped_number_is_a_404_page(client: TestClient, engine: object) -> None:
+    unknown = client.get(f"/verify/{CertificateNumber(2026, 777)}")
+    assert unknown.status_code == 404
+    assert "No certificate has this number" in unknown.text
+    assert client.get("/verify/TRK-2026-000777-Q").status_code == 404
+    assert client.get("/verify/nonsense").status_code == 404
+
+
+def test_the_form_takes_a_number_and_explains_a_mistyped_one(
+    issued: dict[str, Any], client: TestClient
+) -> None:
+    form = client.get("/verify")
+    assert form.status_code == 200
+    assert '<label class="label " for="number">Certificate number</label>' in form.text
+    found = client.get("/verify", params={"number": issued["number"].lower()}, follow_redirects=False)
+    assert found.status_code == 303
+    assert found.headers["location"] == f"/verify/{issued['number']}"
+    wrong = issued["number"][:-1] + ("A" if not issued["number"].endswith("A") else "B")
+    refused = client.get("/verify", params={"number": wrong})
+    assert refused.status_code == 422
+    assert "There is a problem" in refused.text
+    assert 'href="#number"' in refused.text
+    assert f'value="{wrong}"' in refused.text
+
+
+def test_a_superseded_certificate_links_to_its_replacement(api: TestClient) -> None:
+    register(api, FRONT_HEAVY)
+    old = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    new = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    page = api.get(f"/verify/{old['number']}")
+    assert "<h1>SUPERSEDED</h1>" in page.text
+    assert f'href="/verify/{new["number"]}"' in page.text
+
+
+def test_an_expired_certificate_says_expired(api: TestClient, session: Session) -> None:
+    register(api)
+    inspection_id = weigh(api)
+    months_ago = utcnow() - timedelta(days=400)
+    issued = issue_certificate(
+        session, inspection_id=inspection_id, actor=Actor.of_cli(), settings=get_settings(), now=months_ago
+    )
+    page = api.get(f"/verify/{issued.certificate.number}")
+    assert "<h1>EXPIRED</h1>" in page.text
+    assert api.get(f"/api/v1/certificates/{issued.certificate.number}").json()["status"] == "expired"
+    again = api.post(f"/api/v1/inspections/{inspection_id}/certificate")
+    assert again.status_code == 409
+    assert again.json()["errors"][0]["rule"] == "expired"
