@@ -55,11 +55,15 @@ def check_calibration(station: Station, *, today: date, rules: ScaleRules) -> No
             )
         return
     if valid_until < today:
-        certificate = station.calibration_certificate or "without a certificate number"
+        certificate = (
+            f"certificate {station.calibration_certificate}"
+            if station.calibration_certificate
+            else "the calibration (no certificate number on record)"
+        )
         lapsed = valid_until + timedelta(days=1)
         raise CalibrationRefused(
             f"calibration_valid_until: the calibration of this station's scale lapsed on "
-            f"{lapsed.isoformat()}: certificate {certificate} was valid until {valid_until.isoformat()} "
+            f"{lapsed.isoformat()}: {certificate} was valid until {valid_until.isoformat()} "
             "(UTC); have the scale recalibrated and the new certificate recorded before submitting readings",
             field="calibration_valid_until",
             rule="calibration_lapsed",
