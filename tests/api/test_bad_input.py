@@ -17,31 +17,13 @@ import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
+from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.db import Base
 
 TABLES = ("vehicle", "seat", "inspection", "reading", "loading_case")
 MIB = 1024 * 1024
 
-STUDY_VEHICLE: dict[str, Any] = {
-    "registration_number": "BDG 252 QH",
-    "make": "Bajaj",
-    "model": "RE",
-    "model_year": 2012,
-    "wheelbase_m": 2.0,
-    "seats": [
-        {"role": "driver", "x_m": 0.9303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-    ],
-}
-STUDY_READINGS: dict[str, Any] = {
-    "front_kg": 108,
-    "left_rear_kg": 115,
-    "right_rear_kg": 135,
-    "overall_kg": 359,
-}
 OTHER_VEHICLE: dict[str, Any] = {
     "registration_number": "KTU 417 XA",
     "make": "TVS",

@@ -37,6 +37,7 @@ from schemathesis.core.failures import Failure
 from schemathesis.generation import GenerationMode
 from schemathesis.specs.openapi.checks import positive_data_acceptance
 from sqlalchemy.orm import Session
+from study_data import STUDY_VEHICLE
 
 from app import config
 from app.main import create_app
@@ -45,19 +46,6 @@ from app.stations.models import Station
 from app.stations.scale import ScaleRules
 from app.stations.service import hash_key, new_key
 
-STUDY_VEHICLE: dict[str, Any] = {
-    "registration_number": "BDG 252 QH",
-    "make": "Bajaj",
-    "model": "RE",
-    "model_year": 2012,
-    "wheelbase_m": 2.0,
-    "seats": [
-        {"role": "driver", "x_m": 0.9303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-    ],
-}
 STUDY_INSPECTION: dict[str, Any] = {
     "registration_number": "bdg-252qh",
     "readings": {"front_kg": 108, "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359},

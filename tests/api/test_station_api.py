@@ -11,30 +11,12 @@ import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import func, select, update
 from sqlalchemy.orm import Session
+from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.inspections.models import Inspection, Reading
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"
-STUDY_VEHICLE: dict[str, Any] = {
-    "registration_number": "BDG 252 QH",
-    "make": "Bajaj",
-    "model": "RE",
-    "model_year": 2012,
-    "wheelbase_m": 2.0,
-    "seats": [
-        {"role": "driver", "x_m": 0.9303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-    ],
-}
-STUDY_READINGS: dict[str, Any] = {
-    "front_kg": 108,
-    "left_rear_kg": 115,
-    "right_rear_kg": 135,
-    "overall_kg": 359,
-}
 # A front-heavy trike of our own: every loading case complies (LSF 0.444, 0.448, 0.500).
 FRONT_HEAVY: dict[str, Any] = {
     "registration_number": "KTU-417-XA",

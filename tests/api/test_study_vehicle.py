@@ -2,24 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from fastapi.testclient import TestClient
-
-STUDY_VEHICLE: dict[str, Any] = {
-    "registration_number": "BDG 252 QH",
-    "make": "Bajaj",
-    "model": "RE",
-    "model_year": 2012,
-    "wheelbase_m": 2.0,
-    "seats": [
-        {"role": "driver", "x_m": 0.9303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-        {"role": "passenger", "x_m": 1.6303},
-    ],
-}
-STUDY_READINGS = {"front_kg": 108, "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359}
+from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 
 def test_the_study_vehicle_gets_table_4_with_c_only_for_the_driver_alone(api: TestClient) -> None:
