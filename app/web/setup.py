@@ -10,6 +10,7 @@ from fastapi.staticfiles import StaticFiles
 from app.accounts.admin_views import router as admin_router
 from app.accounts.views import router as accounts_router
 from app.inspections.views import router as inspections_router
+from app.stations.views import router as stations_router
 from app.vehicles.views import router as vehicles_router
 from app.web.errors import install_web_error_handlers
 from app.web.headers import PageHeaders
@@ -22,6 +23,13 @@ def install_web(app: FastAPI) -> None:
     """Add the pages; call after the API's error handlers are installed, so API answers stay JSON."""
     install_web_error_handlers(app)
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
-    for router in (home_router, accounts_router, admin_router, vehicles_router, inspections_router):
+    for router in (
+        home_router,
+        accounts_router,
+        admin_router,
+        stations_router,
+        vehicles_router,
+        inspections_router,
+    ):
         app.include_router(router)
     app.add_middleware(PageHeaders)

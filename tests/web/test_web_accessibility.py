@@ -82,6 +82,39 @@ def submit_invalid_vehicle(page: Page) -> None:
     expect(page.locator(".error-summary")).to_be_visible()
 
 
+def submit_invalid_station(page: Page) -> None:
+    page.locator("#capacity_kg").fill("three tonnes")
+    page.locator("#valid_until_day").fill("31")
+    page.get_by_role("button", name="Add station").click()
+    expect(page.locator(".error-summary")).to_be_visible()
+
+
+def add_station(page: Page) -> None:
+    page.locator("#name").fill("Agbara weighbridge")
+    page.locator("#location").fill("Lagos-Badagry Expressway, Agbara")
+    page.locator("#calibration_certificate").fill("SON/CAL/2026/0415")
+    page.locator("#valid_until_day").fill("31")
+    page.locator("#valid_until_month").fill("3")
+    page.locator("#valid_until_year").fill("2027")
+    page.locator("#capacity_kg").fill("3000")
+    page.locator("#division_kg").fill("1")
+    page.get_by_role("button", name="Add station").click()
+    expect(page.locator("#station-key")).to_be_visible()
+
+
+def open_station(page: Page) -> None:
+    page.get_by_role("link", name="Agbara weighbridge").click()
+    expect(page.get_by_role("heading", name="Agbara weighbridge")).to_be_visible()
+
+
+def submit_invalid_station_edit(page: Page) -> None:
+    open_station(page)
+    page.locator("#name").fill("")
+    page.locator("#division_kg").fill("5000")
+    page.get_by_role("button", name="Save details").click()
+    expect(page.locator(".error-summary")).to_be_visible()
+
+
 MAIN_PAGES: list[tuple[str, str, Callable[[Page], None] | None]] = [
     ("login", "/login", None),
     ("home", "/", None),
@@ -94,6 +127,13 @@ MAIN_PAGES: list[tuple[str, str, Callable[[Page], None] | None]] = [
     ("inspection", "/inspections/{id}", None),
     ("inspections", "/inspections", None),
     ("users", "/admin/users", None),
+    ("new-station", "/admin/stations/new", None),
+    ("new-station-errors", "/admin/stations/new", submit_invalid_station),
+    ("station-key", "/admin/stations/new", add_station),
+    ("stations", "/admin/stations", None),
+    ("station", "/admin/stations", open_station),
+    ("station-errors", "/admin/stations", submit_invalid_station_edit),
+    ("settings", "/admin/settings", None),
 ]
 
 
