@@ -1,4 +1,4 @@
-"""A non-editable install (as the Dockerfile makes) carries the templates, static files and every migration."""
+"""A non-editable install (as the Dockerfile makes) carries the templates, static files and migrations."""
 
 from __future__ import annotations
 
