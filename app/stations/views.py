@@ -1,0 +1,436 @@
+"""Administrator pages for weighbridge stations (list, add, edit, rotate the key, disable, enable) and
+a read-only page of the settings in force.
+
+A station key is shown once, on the answer to the POST that made it: it is never stored in clear, so
+it cannot travel through a redirect. That answer is never cached (`Cache-Control: no-store`), and its
+form carries a one-time token stored in the same transaction as the change, so a double click or a
+reload does not add a second station or rotate the key again; it is sent to the station's page instead.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from datetime import UTC, date, datetime
+from decimal import Decimal
+from typing import Any
+
+from fastapi import APIRouter
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+from starlette.datastructures import FormData
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.models import UserSession
+from app.accounts.sessions import set_flash
+from app.config import Settings, get_settings
+from app.errors import ServiceError
+from app.stations.details import MAX_CAPACITY_KG, StationDetails
+from app.stations.models import Station
+from app.stations.service import (
+    create_station,
+    get_station,
+    list_stations,
+    rotate_key,
+    set_station_active,
+    update_station,
+)
+from app.web import submissions
+from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
+from app.web.forms import FormErrors, parse_decimal, text
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+
+TEXT_LIMITS = {"name": 120, "location": 200, "operator_contact": 200, "calibration_certificate": 64}
+DATE_PARTS = ("valid_until_day", "valid_until_month", "valid_until_year")
+FIELDS = (*TEXT_LIMITS, *DATE_PARTS, "capacity_kg", "division_kg")
+# The service's field names -> the input that shows their message.
+INPUT_FOR = {
+    "name": "name",
+    "location": "location",
+    "operator_contact": "operator_contact",
+    "calibration_certificate": "calibration_certificate",
+    "calibration_valid_until": "valid_until_day",
+    "capacity_kg": "capacity_kg",
+    "division_kg": "division_kg",
+}
+REPEATED_FORM = (
+    "That form had already been sent, so nothing more was done. A station key is shown only once; "
+    "if it was not copied, rotate the key."
+)
+
+
+def utc_today() -> date:
+    """Today in UTC: the day on which a calibration's last valid day is judged, as the API does."""
+    return datetime.now(UTC).date()
+
+
+def calibration_lapsed(station: Station, today: date) -> bool:
+    """True when the station's calibration ended before today (its submissions are refused)."""
+    return station.calibration_valid_until is not None and station.calibration_valid_until < today
+
+
+# ---- the station form: parsing only; the rules stay in app.stations.details and service ------------
+
+
+@dataclass
+class StationForm:
+    """The typed form, its raw values (to show again) and its errors."""
+
+    values: dict[str, str]
+    errors: FormErrors = field(default_factory=FormErrors)
+    name: str = ""
+    details: StationDetails = field(default_factory=StationDetails)
+
+
+def form_values_of(station: Station) -> dict[str, str]:
+    """The edit form's values for a station as stored."""
+    valid_until = station.calibration_valid_until
+
+    def kg(value: Decimal | None) -> str:
+        return "" if value is None else f"{value.normalize():f}"
+
+    return {
+        "name": station.name,
+        "location": station.location or "",
+        "operator_contact": station.operator_contact or "",
+        "calibration_certificate": station.calibration_certificate or "",
+        "valid_until_day": str(valid_until.day) if valid_until else "",
+        "valid_until_month": str(valid_until.month) if valid_until else "",
+        "valid_until_year": str(valid_until.year) if valid_until else "",
+        "capacity_kg": kg(station.capacity_kg),
+        "division_kg": kg(station.division_kg),
+    }
+
+
+def _valid_until(values: dict[str, str], errors: FormErrors) -> date | None:
+    parts = [values[name] for name in DATE_PARTS]
+    if not any(parts):
+        return None
+    example = "like 31 3 2027"
+    if not all(parts):
+        missing = [word for word, part in zip(("day", "month", "year"), parts, strict=True) if not part]
+        first = DATE_PARTS[[bool(p) for p in parts].index(False)]
+        errors.add(first, f"The date the calibration is valid until must include a {' and '.join(missing)}")
+        return None
+    if not all(p.isdigit() for p in parts) or len(parts[2]) != 4:
+        errors.add("valid_until_day", f"Enter the date the calibration is valid until as numbers, {example}")
+        return None
+    try:
+        return date(int(parts[2]), int(parts[1]), int(parts[0]))
+    except ValueError:
+        errors.add("valid_until_day", f"The calibration's valid-until date must be a real date, {example}")
+        return None
+
+
+def _weight(values: dict[str, str], name: str, words: str, errors: FormErrors) -> Decimal | None:
+    if not values[name]:
+        return None
+    value = parse_decimal(values[name])
+    if value is None or not value.is_finite():
+        errors.add(name, f"Enter the {words} as a number of kilograms, like 3000, or leave it blank")
+        return None
+    if value <= 0:
+        errors.add(name, f"The {words} must be more than 0 kg")
+        return None
+    return value
+
+
+def read_station_form(form: FormData) -> StationForm:
+    """Parse the posted form; blank optional fields mean "not on record"."""
+    values = {name: text(form, name, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    result = StationForm(values=values)
+    errors = result.errors
+    result.name = " ".join(values["name"].split())
+    if not result.name:
+        errors.add("name", "Enter the station's name, like Agbara weighbridge")
+    valid_until = _valid_until(values, errors)
+    capacity = _weight(values, "capacity_kg", "capacity", errors)
+    division = _weight(values, "division_kg", "division (e)", errors)
+    if capacity is not None and capacity > MAX_CAPACITY_KG:
+        errors.add("capacity_kg", f"The capacity must be at most {MAX_CAPACITY_KG} kg")
+    if capacity is not None and division is not None and division > capacity:
+        errors.add("division_kg", "The division (e) must not be larger than the capacity")
+    result.details = StationDetails(
+        location=values["location"] or None,
+        operator_contact=values["operator_contact"] or None,
+        calibration_certificate=values["calibration_certificate"] or None,
+        calibration_valid_until=valid_until,
+        capacity_kg=capacity,
+        division_kg=division,
+    )
+    return result
+
+
+def _add_service_error(errors: FormErrors, error: ServiceError) -> None:
+    errors.add_problems(error.problems, INPUT_FOR, "name")
+    if not error.problems:
+        errors.add("name", error.message)
+
+
+def _token(form: FormData) -> str | None:
+    """The form's one-time token, or None when it is missing or not one of ours."""
+    token = str(form.get("form_token") or "")
+    return token if submissions.valid_token(token) else None
+
+
+def _repeated(session: Session, login: UserSession, token: str) -> Response | None:
+    """A redirect to where the first submission of this form led, or None for a fresh form."""
+    done = submissions.previous_result(session, token)
+    if done is None:
+        return None
+    set_flash(session, login, REPEATED_FORM)
+    return RedirectResponse(done, status_code=303)
+
+
+def _key_page(request: Request, station: Station, key: str, *, added: bool) -> Response:
+    return render(request, "stations/key.html", {"station": station, "key": key, "added": added})
+
+
+# ---- the pages ------------------------------------------------------------------------------------
+
+
+@router.get("/admin/stations")
+def stations_page(request: Request, session: SessionDep, login: AdminLogin) -> Response:
+    """Every station with its calibration, capacity and status."""
+    return render(request, "stations/list.html", {"stations": list_stations(session), "today": utc_today()})
+
+
+def _new_form(
+    request: Request, values: dict[str, str], errors: FormErrors, token: str, status: int
+) -> Response:
+    return render(
+        request,
+        "stations/new.html",
+        {"values": values, "errors": errors.messages, "form_token": token},
+        status_code=status,
+    )
+
+
+@router.get("/admin/stations/new")
+def new_station_form(request: Request, login: AdminLogin) -> Response:
+    """The form to add a station."""
+    return _new_form(request, {}, FormErrors(), submissions.new_form_token(), 200)
+
+
+@router.post("/admin/stations/new")
+def add_station(request: Request, session: SessionDep, login: AdminPost, form: FormDep) -> Response:
+    """Add the station and show its key once; or show the form again with the problems."""
+    token = _token(form)
+    if token is not None and (done := _repeated(session, login, token)) is not None:
+        return done
+    parsed = read_station_form(form)
+    if not parsed.errors:
+        if token is not None:  # committed with the station, by create_station
+            submissions.remember(session, token=token, user_id=login.user_id, redirect_path="/admin/stations")
+        try:
+            station, key = create_station(session, name=parsed.name, details=parsed.details)
+        except (ServiceError, IntegrityError) as error:
+            session.rollback()
+            if token is not None and (done := _repeated(session, login, token)) is not None:
+                return done  # the same form was sent twice at once, and the other one won
+            if isinstance(error, IntegrityError):
+                raise
+            _add_service_error(parsed.errors, error)
+        else:
+            return _key_page(request, station, key, added=True)
+    return _new_form(request, parsed.values, parsed.errors, token or submissions.new_form_token(), 422)
+
+
+def _station_page(
+    request: Request,
+    station: Station,
+    *,
+    values: dict[str, str] | None = None,
+    errors: FormErrors | None = None,
+    status: int = 200,
+) -> Response:
+    context: dict[str, Any] = {
+        "station": station,
+        "values": values if values is not None else form_values_of(station),
+        "errors": errors.messages if errors else {},
+        "rotate_token": submissions.new_form_token(),
+        "lapsed": calibration_lapsed(station, utc_today()),
+    }
+    return render(request, "stations/edit.html", context, status_code=status)
+
+
+@router.get("/admin/stations/{station_id}")
+def station_page(request: Request, session: SessionDep, login: AdminLogin, station_id: int) -> Response:
+    """A station's details to edit, and the forms to rotate its key and disable or enable it."""
+    return _station_page(request, get_station(session, station_id))
+
+
+@router.post("/admin/stations/{station_id}")
+def edit_station(
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: int
+) -> Response:
+    """Store the new details, or show the form again with the problems (nothing stored)."""
+    station = get_station(session, station_id)
+    parsed = read_station_form(form)
+    if not parsed.errors:
+        try:
+            update_station(session, station=station, details=parsed.details, name=parsed.name)
+        except ServiceError as error:
+            session.rollback()
+            _add_service_error(parsed.errors, error)
+        except IntegrityError:  # another station took the name meanwhile
+            session.rollback()
+            parsed.errors.add("name", f"A station named {parsed.name!r} already exists")
+        else:
+            set_flash(session, login, f"The details of {station.name} were saved.")
+            return RedirectResponse(f"/admin/stations/{station.id}", status_code=303)
+    return _station_page(request, station, values=parsed.values, errors=parsed.errors, status=422)
+
+
+@router.post("/admin/stations/{station_id}/key")
+def rotate_station_key(
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: int
+) -> Response:
+    """Give the station a new key and show it once; the old key stops working at once."""
+    station = get_station(session, station_id)
+    token = _token(form)
+    if token is not None:
+        if (done := _repeated(session, login, token)) is not None:
+            return done
+        # Committed together with the new key by rotate_key: a second submission cannot rotate again.
+        submissions.remember(
+            session, token=token, user_id=login.user_id, redirect_path=f"/admin/stations/{station.id}"
+        )
+    try:
+        key = rotate_key(session, station=station)
+    except IntegrityError:
+        session.rollback()
+        if token is not None and (done := _repeated(session, login, token)) is not None:
+            return done
+        raise
+    return _key_page(request, station, key, added=False)
+
+
+def _set_active(session: Session, login: UserSession, station_id: int, active: bool) -> Response:
+    station = set_station_active(session, station=get_station(session, station_id), active=active)
+    if active:
+        message = f"{station.name} is enabled: its key works again."
+    else:
+        message = f"{station.name} is disabled: its key is refused until the station is enabled."
+    set_flash(session, login, message)
+    return RedirectResponse(f"/admin/stations/{station.id}", status_code=303)
+
+
+@router.post("/admin/stations/{station_id}/disable")
+def disable_station(session: SessionDep, login: AdminPost, station_id: int) -> Response:
+    """Refuse the station's key (401) until it is enabled again."""
+    return _set_active(session, login, station_id, active=False)
+
+
+@router.post("/admin/stations/{station_id}/enable")
+def enable_station(session: SessionDep, login: AdminPost, station_id: int) -> Response:
+    """Accept the station's key again."""
+    return _set_active(session, login, station_id, active=True)
+
+
+# ---- the settings in force ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SettingRow:
+    """One setting as the page shows it."""
+
+    label: str
+    variable: str
+    value: str
+    default: bool
+    meaning: str
+
+
+# Only these are shown, by name: a setting added later (a secret, say) never appears by accident.
+SHOWN_SETTINGS: tuple[tuple[str, str, str, str], ...] = (
+    ("occupant_mass_kg", "Occupant mass", "kg", "The mass of each occupant added in the loading cases."),
+    (
+        "sum_tolerance",
+        "Sum tolerance",
+        "ratio",
+        "How far the three wheel readings may disagree with the overall weight.",
+    ),
+    (
+        "max_reading_spread_kg",
+        "Largest spread of repeated readings",
+        "kg",
+        "Repeated readings of one wheel that spread more (or more than one scale division) are refused.",
+    ),
+    (
+        "require_calibration",
+        "Calibration required",
+        "bool",
+        "Whether a station with no calibration on record is refused.",
+    ),
+    (
+        "certificate_validity_months",
+        "Certificate validity",
+        "months",
+        "How long a Lateral Stability Certificate is valid.",
+    ),
+    ("station_rate_limit", "Station rate limit", "requests", "Requests per station key per window (0: off)."),
+    ("station_rate_window_seconds", "Rate limit window", "seconds", "The window of the station rate limit."),
+    ("session_idle_minutes", "Session idle timeout", "minutes", "An officer is signed out after this idle."),
+    (
+        "session_absolute_hours",
+        "Session absolute timeout",
+        "hours",
+        "An officer is signed out this long after signing in, however active.",
+    ),
+    (
+        "login_max_failures",
+        "Failed sign-ins before lock-out",
+        "count",
+        "Failed sign-ins for one email before sign-in is refused.",
+    ),
+    ("login_lockout_minutes", "Lock-out period", "minutes", "How long failed sign-ins are counted and held."),
+    (
+        "idempotency_key_hours",
+        "Idempotency keys kept",
+        "hours",
+        "How long a station's Idempotency-Key replays its first answer.",
+    ),
+    ("display_timezone", "Display time zone", "text", "Times on the pages, and “today”, are in this zone."),
+)
+
+
+def _shown(value: object, unit: str) -> str:
+    if isinstance(value, bool):
+        return "Yes" if value else "No"
+    if unit == "ratio" and isinstance(value, Decimal):
+        return f"{value.normalize():f} ({value * 100:.1f} %)"
+    if isinstance(value, Decimal):
+        value = f"{value.normalize():f}"
+    return f"{value} {unit}" if unit not in ("text", "count") else str(value)
+
+
+def settings_rows(settings: Settings) -> list[SettingRow]:
+    """The settings that matter to officers and regulators, with their environment variables."""
+    fields = type(settings).model_fields
+    rows = []
+    for name, label, unit, meaning in SHOWN_SETTINGS:
+        value = getattr(settings, name)
+        rows.append(
+            SettingRow(
+                label=label,
+                variable=f"TRIKECERT_{name.upper()}",
+                value=_shown(value, unit),
+                default=value == fields[name].default,
+                meaning=meaning,
+            )
+        )
+    return rows
+
+
+@router.get("/admin/settings")
+def settings_page(request: Request, login: AdminLogin) -> Response:
+    """The settings in force (read only; they are changed in the environment and need a restart)."""
+    settings = get_settings()
+    return render(
+        request,
+        "stations/settings.html",
+        {"rows": settings_rows(settings), "environment": settings.environment},
+    )
