@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import fcntl
+import os
+import threading
 from collections.abc import Iterator
 from datetime import UTC, datetime
 from functools import lru_cache
@@ -54,10 +57,118 @@ def utcnow() -> datetime:
     return datetime.now(UTC)
 
 
+WRITE_OPTION = "trikecert_write"
+SQLITE_BUSY_SECONDS = 30
+
+
+def begin_write(session: Session) -> None:
+    """Start the session's next transaction as a write transaction.
+
+    On SQLite that is `BEGIN IMMEDIATE`, taken behind the process's writer lock: writers queue in
+    order and wake as soon as the writer before them commits, instead of starting deferred, reading,
+    then failing or sleeping in SQLite's busy handler when they try to write. Reads done so far in
+    the session ran outside any SQLite transaction (the driver begins one only before a write), so a
+    transaction that has not written yet is committed first, keeping those reads out of the writer's
+    turn. Elsewhere, and once the transaction has written, it does nothing.
+    """
+    if session.get_bind().dialect.name != "sqlite":
+        return
+    if session.in_transaction():
+        if session.new or session.dirty or session.deleted:
+            return
+        if session.connection().connection.dbapi_connection.in_transaction:  # type: ignore[union-attr]
+            return  # it has written (or holds the writer's turn): stay in it
+        session.commit()
+    session.connection(execution_options={WRITE_OPTION: True})
+
+
+class _WriterLock:
+    """One writer at a time: a lock among this process's threads, then an flock(2) on a file beside
+    the database among processes (uvicorn workers), so a waiting writer wakes as soon as the one
+    before it commits instead of polling in SQLite's busy handler."""
+
+    def __init__(self, database: str | None) -> None:
+        self.threads = threading.Lock()
+        self.path = f"{database}-writer.lock" if database and database != ":memory:" else None
+        self.file: int | None = None
+
+    def acquire(self) -> None:
+        if not self.threads.acquire(timeout=SQLITE_BUSY_SECONDS):
+            raise TimeoutError("SQLite: waited too long for this process's writer lock")
+        if self.path is None:
+            return
+        try:
+            if self.file is None:
+                self.file = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o600)
+            fcntl.flock(self.file, fcntl.LOCK_EX)
+        except BaseException:
+            self.threads.release()
+            raise
+
+    def release(self) -> None:
+        try:
+            if self.file is not None:
+                fcntl.flock(self.file, fcntl.LOCK_UN)
+        finally:
+            self.threads.release()
+
+
+def _single_writer(engine: Engine) -> None:
+    """SQLite: a write transaction starts with BEGIN IMMEDIATE behind the writer lock."""
+    writer = _WriterLock(engine.url.database)
+    holders: set[int] = set()  # ids of the DBAPI connections holding `writer`
+
+    # Other transactions keep the driver's own handling: reads outside a transaction, a deferred
+    # BEGIN before the first write.
+    @event.listens_for(engine, "begin")
+    def _begin(connection: Any) -> None:
+        if not connection.get_execution_options().get(WRITE_OPTION):
+            return
+        dbapi_connection = connection.connection.dbapi_connection
+        writer.acquire()
+        holders.add(id(dbapi_connection))
+        try:
+            connection.exec_driver_sql("BEGIN IMMEDIATE")  # other processes: the busy timeout
+        except BaseException:
+            _release(dbapi_connection)
+            raise
+
+    def _release(dbapi_connection: Any) -> None:
+        raw = getattr(dbapi_connection, "dbapi_connection", dbapi_connection)  # the pool's proxy or not
+        if id(raw) in holders:
+            holders.discard(id(raw))
+            writer.release()
+
+    dialect = engine.dialect
+    commit, rollback, close = dialect.do_commit, dialect.do_rollback, dialect.do_close
+
+    def do_commit(dbapi_connection: Any) -> None:
+        try:
+            commit(dbapi_connection)
+        finally:
+            _release(dbapi_connection)
+
+    def do_rollback(dbapi_connection: Any) -> None:
+        try:
+            rollback(dbapi_connection)
+        finally:
+            _release(dbapi_connection)
+
+    def do_close(dbapi_connection: Any) -> None:  # a connection discarded mid-transaction
+        try:
+            close(dbapi_connection)
+        finally:
+            _release(dbapi_connection)
+
+    setattr(dialect, "do_commit", do_commit)  # noqa: B010  (this engine's dialect instance only)
+    setattr(dialect, "do_rollback", do_rollback)  # noqa: B010
+    setattr(dialect, "do_close", do_close)  # noqa: B010
+
+
 def make_engine(url: str) -> Engine:
-    """An engine for the URL; SQLite gets WAL, foreign keys and a busy timeout."""
+    """An engine for the URL; SQLite gets WAL, foreign keys, a busy timeout and a single-writer path."""
     if url.startswith("sqlite"):
-        engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30})
+        engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": SQLITE_BUSY_SECONDS})
 
         @event.listens_for(engine, "connect")
         def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
@@ -65,11 +176,15 @@ def make_engine(url: str) -> Engine:
             cursor.execute("PRAGMA foreign_keys=ON")
             cursor.execute("PRAGMA journal_mode=WAL")
             cursor.execute("PRAGMA synchronous=FULL")
-            cursor.execute("PRAGMA busy_timeout=30000")
+            cursor.execute(f"PRAGMA busy_timeout={SQLITE_BUSY_SECONDS * 1000}")
             cursor.close()
 
+        _single_writer(engine)
         return engine
-    return create_engine(url, pool_pre_ping=True, pool_size=10, max_overflow=10)
+    settings = get_settings()
+    return create_engine(
+        url, pool_pre_ping=True, pool_size=settings.db_pool_size, max_overflow=settings.db_max_overflow
+    )
 
 
 @lru_cache

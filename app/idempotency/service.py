@@ -19,7 +19,7 @@ from typing import Any
 from sqlalchemy import delete, func, select
 from sqlalchemy.orm import Session
 
-from app.db import utcnow
+from app.db import begin_write, utcnow
 from app.errors import Conflict, InvalidInput
 from app.idempotency.models import IdempotencyKey
 
@@ -114,6 +114,7 @@ def remember(session: Session, claim: Claim, *, status_code: int, body: bytes) -
 
 def prune(session: Session, *, older_than: datetime) -> int:
     """Delete the keys stored before `older_than` and commit; how many went."""
+    begin_write(session)
     result = session.execute(delete(IdempotencyKey).where(IdempotencyKey.created_at < older_than))
     session.commit()
     return int(getattr(result, "rowcount", 0) or 0)

@@ -5,12 +5,14 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, date, datetime
-from decimal import ROUND_HALF_EVEN, Decimal
+from decimal import ROUND_HALF_EVEN, ROUND_HALF_UP, Decimal
 from fractions import Fraction
 
-from sqlalchemy import func, select
-from sqlalchemy.orm import Session
+from sqlalchemy import func, insert, select
+from sqlalchemy.orm import Session, lazyload, make_transient_to_detached
+from sqlalchemy.orm.attributes import set_committed_value
 
+from app.db import begin_write
 from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stability import (
@@ -108,13 +110,14 @@ def record_inspection(
     vehicle = get_vehicle(session, request.registration_number)
     data = build_input(vehicle, request)
     result = assess_input(data, rules)
+    begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn
     inspection = Inspection(
         vehicle=vehicle,
         station=station,
         user_id=user_id,
-        wheelbase_m=result.wheelbase_m,
-        occupant_mass_kg=result.occupant_mass_kg,
-        sum_tolerance=rules.sum_tolerance,
+        wheelbase_m=_scale(result.wheelbase_m, 4),
+        occupant_mass_kg=_scale(result.occupant_mass_kg, 3),
+        sum_tolerance=_scale(rules.sum_tolerance, 4),
         rules_version=RULES_VERSION,
         occupant_config={
             "seats": [{"role": s.role, "x_m": str(s.x_m)} for s in data.seats],
@@ -133,11 +136,11 @@ def record_inspection(
         calibration_valid_until=station.calibration_valid_until if station else None,
     )
     session.add(inspection)
-    session.flush()
-    session.add_all(_reading_rows(inspection.id, 0, request.readings))
+    session.flush()  # one INSERT ... RETURNING id; the rows below go in as one multi-row INSERT each
+    readings = _reading_rows(inspection.id, 0, request.readings)
     for measured in request.measured_cases:
-        session.add_all(_reading_rows(inspection.id, measured.occupants, measured.readings))
-    session.add_all(
+        readings += _reading_rows(inspection.id, measured.occupants, measured.readings)
+    cases = [
         LoadingCaseRow(
             inspection_id=inspection.id,
             occupants=case.occupants,
@@ -150,12 +153,45 @@ def record_inspection(
             lsf_exact=f"{case.lsf.numerator}/{case.lsf.denominator}",
         )
         for case in result.cases
-    )
+    ]
+    session.execute(insert(Reading), [_columns(row, READING_COLUMNS) for row in readings])
+    session.execute(insert(LoadingCaseRow), [_columns(row, CASE_COLUMNS) for row in cases])
+    # The rows just inserted join the session as persistent objects (no second INSERT), and become
+    # the inspection's collections in their relationships' order, without reading them back.
+    for row in [*readings, *cases]:
+        make_transient_to_detached(row)
+        session.add(row)
+    readings.sort(key=lambda r: (r.case_occupants, r.wheel, r.sequence))
+    cases.sort(key=lambda c: c.occupants)
+    set_committed_value(inspection, "readings", readings)
+    set_committed_value(inspection, "loading_cases", cases)
     if on_stored is not None:
         on_stored(session, inspection)
     session.commit()
-    session.refresh(inspection)
     return inspection
+
+
+READING_COLUMNS = ("inspection_id", "case_occupants", "wheel", "sequence", "value_kg")
+CASE_COLUMNS = (
+    "inspection_id",
+    "occupants",
+    "total_kg",
+    "rear_kg",
+    "lsf",
+    "variance",
+    "compliant",
+    "measured",
+    "lsf_exact",
+)
+
+
+def _columns(row: object, names: tuple[str, ...]) -> dict[str, object]:
+    return {name: getattr(row, name) for name in names}
+
+
+def _scale(value: Decimal, places: int) -> Decimal:
+    """A value at its column's scale, as the database gives it back (NUMERIC rounds half away from zero)."""
+    return Decimal(value).quantize(Decimal(1).scaleb(-places), ROUND_HALF_UP)
 
 
 def reading_sets(request: InspectionRequest) -> list[tuple[str, WheelReadings]]:
@@ -184,7 +220,7 @@ def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadin
             case_occupants=case_occupants,
             wheel=wheel,
             sequence=i,
-            value_kg=value,
+            value_kg=_scale(value, 3),
         )
         for wheel in WHEELS
         for i, value in enumerate(readings.values(wheel))
@@ -233,6 +269,10 @@ def list_inspections(
         query = query.where(Inspection.created_at < where.until)
     total = session.scalar(select(func.count()).select_from(query.subquery())) or 0
     page = session.scalars(
-        query.order_by(Inspection.created_at.desc(), Inspection.id.desc()).limit(limit).offset(offset)
+        query.order_by(Inspection.created_at.desc(), Inspection.id.desc())
+        .limit(limit)
+        .offset(offset)
+        # A list shows summaries: the readings and cases load only if a caller touches them.
+        .options(lazyload(Inspection.readings), lazyload(Inspection.loading_cases))
     ).all()
     return page, total

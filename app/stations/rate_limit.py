@@ -2,7 +2,9 @@
 
 The counter lives in the database, so every worker process shares it. One statement per request
 (INSERT ... ON CONFLICT DO UPDATE ... RETURNING, on SQLite and PostgreSQL alike) opens a new window,
-or counts the request in the current one, and reads the count back.
+or counts the request in the current one, and reads the count back. On PostgreSQL it runs in
+autocommit on its own connection (the row lock lasts one statement); on SQLite it takes the
+writer's turn (app.db.begin_write) for that statement and its commit.
 """
 
 from __future__ import annotations
@@ -12,11 +14,12 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import case
+from sqlalchemy import Engine, case
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
 from app.api.errors import ErrorOut
+from app.db import begin_write
 from app.errors import ServiceError
 from app.stations.models import StationRateWindow
 
@@ -69,8 +72,20 @@ def count_request(session: Session, *, station_id: int, limit: RateLimit, now: f
         return
     now = time.time() if now is None else now
     window_start = int(now // limit.window_seconds) * limit.window_seconds
-    count, started = session.execute(_upsert(session, station_id, window_start)).one()
-    session.commit()
+    statement = _upsert(session, station_id, window_start)
+    bind = session.get_bind()
+    if bind.dialect.name == "postgresql" and isinstance(bind, Engine):
+        # Every request of a station bumps the same row: run the upsert as one autocommit statement,
+        # so its row lock is held only while the server runs it, never across a round trip or a
+        # Python thread waiting for the GIL. The session's read (the key lookup) ends first, so a
+        # request never holds two pooled connections.
+        session.commit()
+        with bind.connect().execution_options(isolation_level="AUTOCOMMIT") as connection:
+            count, started = connection.execute(statement).one()
+    else:
+        begin_write(session)  # SQLite: the writer's turn, for this one statement and its commit
+        count, started = session.execute(statement).one()
+        session.commit()
     if count > limit.limit:
         retry_after = max(1, math.ceil(started + limit.window_seconds - now))
         raise RateLimited(limit, retry_after)
