@@ -53,9 +53,12 @@ class Settings(BaseSettings):
     station_rate_limit: int = Field(default=120, ge=0)  # requests per station key per window; 0: off
     station_rate_window_seconds: int = Field(default=60, ge=1, le=3600)
     idempotency_key_hours: int = Field(default=24, ge=24, le=24 * 90)
-    # PostgreSQL connections per app process: kept open, and opened beyond it under load.
-    db_pool_size: int = Field(default=10, ge=1, le=200)
-    db_max_overflow: int = Field(default=10, ge=0, le=200)
+    # Requests one app process handles at once (the threads that run the routes), and the database
+    # connections it keeps open: one per request in flight, so a pool as large as the threads is never
+    # short and never opens and closes connections under load. Overflow is a safety margin only.
+    worker_threads: int = Field(default=16, ge=1, le=200)
+    db_pool_size: int = Field(default=16, ge=1, le=200)
+    db_max_overflow: int = Field(default=4, ge=0, le=200)
 
     @model_validator(mode="after")
     def refuse_placeholder_secrets(self) -> Settings:

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+
+import anyio.to_thread
 from fastapi import FastAPI
 
 import app.models  # noqa: F401  (every table known to the mapper, whichever route loads first)
@@ -29,11 +33,18 @@ Every call needs `Authorization: Bearer <station key>`. Errors are JSON
 """
 
 
+@asynccontextmanager
+async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+    """At most `worker_threads` routes run at once; the others wait in the event loop, holding nothing."""
+    anyio.to_thread.current_default_thread_limiter().total_tokens = get_settings().worker_threads
+    yield
+
+
 def create_app() -> FastAPI:
     """Build the application from the current settings."""
     settings = get_settings()
     configure_logging()
-    app = FastAPI(title="trikecert", version="0.1.0", description=DESCRIPTION)
+    app = FastAPI(title="trikecert", version="0.1.0", description=DESCRIPTION, lifespan=lifespan)
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.include_router(api_router)

@@ -7,12 +7,13 @@ from dataclasses import dataclass, field
 from datetime import UTC, date, datetime
 from decimal import ROUND_HALF_EVEN, ROUND_HALF_UP, Decimal
 from fractions import Fraction
+from typing import cast
 
-from sqlalchemy import func, insert, select
+from sqlalchemy import Table, func, select
 from sqlalchemy.orm import Session, lazyload, make_transient_to_detached
 from sqlalchemy.orm.attributes import set_committed_value
 
-from app.db import begin_write
+from app.db import begin_write, utcnow
 from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stability import (
@@ -111,38 +112,41 @@ def record_inspection(
     data = build_input(vehicle, request)
     result = assess_input(data, rules)
     begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn
-    inspection = Inspection(
-        vehicle=vehicle,
-        station=station,
-        user_id=user_id,
-        wheelbase_m=_scale(result.wheelbase_m, 4),
-        occupant_mass_kg=_scale(result.occupant_mass_kg, 3),
-        sum_tolerance=_scale(rules.sum_tolerance, 4),
-        rules_version=RULES_VERSION,
-        occupant_config={
+    columns: dict[str, object] = {
+        "vehicle_id": vehicle.id,
+        "station_id": station.id if station else None,
+        "user_id": user_id,
+        "created_at": utcnow(),
+        "wheelbase_m": _scale(result.wheelbase_m, 4),
+        "occupant_mass_kg": _scale(result.occupant_mass_kg, 3),
+        "sum_tolerance": _scale(rules.sum_tolerance, 4),
+        "rules_version": RULES_VERSION,
+        "occupant_config": {
             "seats": [{"role": s.role, "x_m": str(s.x_m)} for s in data.seats],
             "load_items": [
                 {"label": i.label, "mass_kg": str(i.mass_kg), "x_m": str(i.x_m)} for i in request.load_items
             ],
         },
-        front_kg=quantize(result.readings.front_kg, 4),
-        left_rear_kg=quantize(result.readings.left_rear_kg, 4),
-        right_rear_kg=quantize(result.readings.right_rear_kg, 4),
-        overall_kg=None if result.readings.overall_kg is None else quantize(result.readings.overall_kg, 4),
-        cg_from_front_m=quantize(result.cg_from_front_m, 5),
-        compliant=result.compliant,
-        max_compliant_occupants=result.max_compliant_occupants,
-        calibration_certificate=station.calibration_certificate if station else None,
-        calibration_valid_until=station.calibration_valid_until if station else None,
-    )
-    session.add(inspection)
-    session.flush()  # one INSERT ... RETURNING id; the rows below go in as one multi-row INSERT each
-    readings = _reading_rows(inspection.id, 0, request.readings)
+        "front_kg": quantize(result.readings.front_kg, 4),
+        "left_rear_kg": quantize(result.readings.left_rear_kg, 4),
+        "right_rear_kg": quantize(result.readings.right_rear_kg, 4),
+        "overall_kg": None if result.readings.overall_kg is None else quantize(result.readings.overall_kg, 4),
+        "cg_from_front_m": quantize(result.cg_from_front_m, 5),
+        "compliant": result.compliant,
+        "max_compliant_occupants": result.max_compliant_occupants,
+        "calibration_certificate": station.calibration_certificate if station else None,
+        "calibration_valid_until": station.calibration_valid_until if station else None,
+    }
+    # Core INSERTs on the session's connection, in its transaction: the ORM's unit of work would
+    # cost as much again in Python for rows that are written once and never changed.
+    connection = session.connection()
+    inspection_id = connection.execute(_INSERT_INSPECTION, columns).scalar_one()
+    readings = _reading_rows(inspection_id, 0, request.readings)
     for measured in request.measured_cases:
-        readings += _reading_rows(inspection.id, measured.occupants, measured.readings)
+        readings += _reading_rows(inspection_id, measured.occupants, measured.readings)
     cases = [
         LoadingCaseRow(
-            inspection_id=inspection.id,
+            inspection_id=inspection_id,
             occupants=case.occupants,
             total_kg=quantize(case.total_kg, 6),
             rear_kg=quantize(case.rear_kg, 6),
@@ -154,15 +158,19 @@ def record_inspection(
         )
         for case in result.cases
     ]
-    session.execute(insert(Reading), [_columns(row, READING_COLUMNS) for row in readings])
-    session.execute(insert(LoadingCaseRow), [_columns(row, CASE_COLUMNS) for row in cases])
-    # The rows just inserted join the session as persistent objects (no second INSERT), and become
-    # the inspection's collections in their relationships' order, without reading them back.
-    for row in [*readings, *cases]:
+    connection.execute(_READING.insert(), [_columns(row, READING_COLUMNS) for row in readings])
+    connection.execute(_CASE.insert(), [_columns(row, CASE_COLUMNS) for row in cases])
+    # The rows just inserted join the session as persistent objects (no second INSERT), and the
+    # inspection gets its vehicle, station and collections in their relationships' order, without
+    # reading anything back.
+    inspection = Inspection(id=inspection_id, **columns)
+    for row in [inspection, *readings, *cases]:
         make_transient_to_detached(row)
         session.add(row)
     readings.sort(key=lambda r: (r.case_occupants, r.wheel, r.sequence))
     cases.sort(key=lambda c: c.occupants)
+    set_committed_value(inspection, "vehicle", vehicle)
+    set_committed_value(inspection, "station", station)
     set_committed_value(inspection, "readings", readings)
     set_committed_value(inspection, "loading_cases", cases)
     if on_stored is not None:
@@ -171,6 +179,11 @@ def record_inspection(
     return inspection
 
 
+# The tables themselves, for Core INSERTs (the mapped classes would take the ORM's bulk path).
+_INSPECTION = cast(Table, Inspection.__table__)
+_READING = cast(Table, Reading.__table__)
+_CASE = cast(Table, LoadingCaseRow.__table__)
+_INSERT_INSPECTION = _INSPECTION.insert().returning(_INSPECTION.c.id)
 READING_COLUMNS = ("inspection_id", "case_occupants", "wheel", "sequence", "value_kg")
 CASE_COLUMNS = (
     "inspection_id",

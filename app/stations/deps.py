@@ -11,8 +11,7 @@ from sqlalchemy.orm import Session
 from app.config import get_settings
 from app.db import get_session
 from app.stations.models import Station
-from app.stations.rate_limit import RateLimit, count_request
-from app.stations.service import authenticate_station
+from app.stations.rate_limit import RateLimit, authenticate_and_count
 
 bearer = HTTPBearer(auto_error=False, description="The station's API key, from `trikecert create-station`.")
 SessionDep = Annotated[Session, Depends(get_session)]
@@ -32,16 +31,15 @@ def current_station(
             "Authorization: send the station key as `Authorization: Bearer <key>`",
             headers={"WWW-Authenticate": "Bearer"},
         )
-    station = authenticate_station(session, credentials.credentials)
+    settings = get_settings()
+    limit = RateLimit(settings.station_rate_limit, settings.station_rate_window_seconds)
+    station = authenticate_and_count(session, credentials.credentials, limit=limit)
     if station is None:
         raise HTTPException(
             status.HTTP_401_UNAUTHORIZED,
             "Authorization: the station key is not recognised or the station is disabled",
             headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
         )
-    settings = get_settings()
-    limit = RateLimit(settings.station_rate_limit, settings.station_rate_window_seconds)
-    count_request(session, station_id=station.id, limit=limit)
     return station
 
 

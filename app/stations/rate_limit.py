@@ -3,8 +3,9 @@
 The counter lives in the database, so every worker process shares it. One statement per request
 (INSERT ... ON CONFLICT DO UPDATE ... RETURNING, on SQLite and PostgreSQL alike) opens a new window,
 or counts the request in the current one, and reads the count back. On PostgreSQL it runs in
-autocommit on its own connection (the row lock lasts one statement); on SQLite it takes the
-writer's turn (app.db.begin_write) for that statement and its commit.
+autocommit on its own connection (the row lock lasts one statement), joined in the same statement
+with the look-up of the station key, so authenticating and counting a request take one round trip;
+on SQLite it takes the writer's turn (app.db.begin_write) for that statement and its commit.
 """
 
 from __future__ import annotations
@@ -12,16 +13,18 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from functools import cache
 from typing import Any
 
-from sqlalchemy import Engine, case
+from sqlalchemy import BigInteger, Engine, String, bindparam, case, literal, select
 from sqlalchemy.dialects import postgresql, sqlite
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, make_transient_to_detached
 
 from app.api.errors import ErrorOut
 from app.db import begin_write
 from app.errors import ServiceError
-from app.stations.models import StationRateWindow
+from app.stations.models import Station, StationRateWindow
+from app.stations.service import authenticate_station, hash_key
 
 RATE_LIMIT_RULE = "rate_limit"
 
@@ -50,12 +53,9 @@ class RateLimited(ServiceError):
         self.headers = {"Retry-After": str(retry_after)}
 
 
-def _upsert(session: Session, station_id: int, window_start: int) -> Any:
-    """The one statement: open a new window or count this request in the current one."""
-    dialect = session.get_bind().dialect.name
-    insert = postgresql.insert if dialect == "postgresql" else sqlite.insert
+def _on_conflict_count(statement: Any) -> Any:
+    """Open a new window, or count this request in the current one; return the count and window."""
     row = StationRateWindow
-    statement = insert(row).values(station_id=station_id, window_start=window_start, request_count=1)
     current = row.window_start >= statement.excluded.window_start  # a late request counts in the newer one
     return statement.on_conflict_do_update(
         index_elements=[row.station_id],
@@ -66,13 +66,30 @@ def _upsert(session: Session, station_id: int, window_start: int) -> Any:
     ).returning(row.request_count, row.window_start)
 
 
+def _upsert(session: Session, station_id: int, window_start: int) -> Any:
+    """The one statement: open a new window or count this request in the current one."""
+    dialect = session.get_bind().dialect.name
+    insert = postgresql.insert if dialect == "postgresql" else sqlite.insert
+    values = {"station_id": station_id, "window_start": window_start, "request_count": 1}
+    return _on_conflict_count(insert(StationRateWindow).values(**values))
+
+
+def _window_start(limit: RateLimit, now: float) -> int:
+    return int(now // limit.window_seconds) * limit.window_seconds
+
+
+def _check(limit: RateLimit, count: int, started: int, now: float) -> None:
+    if count > limit.limit:
+        retry_after = max(1, math.ceil(started + limit.window_seconds - now))
+        raise RateLimited(limit, retry_after)
+
+
 def count_request(session: Session, *, station_id: int, limit: RateLimit, now: float | None = None) -> None:
     """Count one request of this station and commit; RateLimited when it is over the limit."""
     if limit.limit <= 0:
         return
     now = time.time() if now is None else now
-    window_start = int(now // limit.window_seconds) * limit.window_seconds
-    statement = _upsert(session, station_id, window_start)
+    statement = _upsert(session, station_id, _window_start(limit, now))
     bind = session.get_bind()
     if bind.dialect.name == "postgresql" and isinstance(bind, Engine):
         # Every request of a station bumps the same row: run the upsert as one autocommit statement,
@@ -86,9 +103,50 @@ def count_request(session: Session, *, station_id: int, limit: RateLimit, now: f
         begin_write(session)  # SQLite: the writer's turn, for this one statement and its commit
         count, started = session.execute(statement).one()
         session.commit()
-    if count > limit.limit:
-        retry_after = max(1, math.ceil(started + limit.window_seconds - now))
-        raise RateLimited(limit, retry_after)
+    _check(limit, count, started, now)
+
+
+@cache
+def _authenticate_and_count_statement() -> Any:
+    """PostgreSQL: the active station holding the key, and its request counted, in one statement.
+
+    Built once (parameters `key_hash` and `window_start`): constructing it is a good part of its cost.
+    """
+    key_hash = bindparam("key_hash", type_=String)
+    station = select(Station.__table__).where(Station.key_hash == key_hash, Station.active).cte("station")
+    counted = _on_conflict_count(
+        postgresql.insert(StationRateWindow).from_select(
+            ["station_id", "window_start", "request_count"],
+            select(station.c.id, bindparam("window_start", type_=BigInteger), literal(1)),
+        )
+    ).cte("counted")
+    return select(station, counted.c.request_count, counted.c.window_start).select_from(station, counted)
+
+
+def authenticate_and_count(
+    session: Session, key: str, *, limit: RateLimit, now: float | None = None
+) -> Station | None:
+    """The active station holding this key (or None), its request counted; RateLimited beyond the limit.
+
+    The station joins the session as a persistent object, as if loaded by it.
+    """
+    bind = session.get_bind()
+    if limit.limit <= 0 or bind.dialect.name != "postgresql" or not isinstance(bind, Engine):
+        station = authenticate_station(session, key)
+        if station is not None:
+            count_request(session, station_id=station.id, limit=limit, now=now)
+        return station
+    now = time.time() if now is None else now
+    parameters = {"key_hash": hash_key(key), "window_start": _window_start(limit, now)}
+    with bind.connect().execution_options(isolation_level="AUTOCOMMIT") as connection:
+        row = connection.execute(_authenticate_and_count_statement(), parameters).mappings().one_or_none()
+    if row is None:
+        return None
+    station = Station(**{column.key: row[column.name] for column in Station.__table__.columns})
+    make_transient_to_detached(station)
+    session.add(station)
+    _check(limit, row["request_count"], row["window_start"], now)
+    return station
 
 
 RATE_LIMITED_RESPONSE: dict[int | str, dict[str, Any]] = {

@@ -8,7 +8,7 @@ from decimal import Decimal
 
 from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, joinedload
 
 from app.errors import Conflict, InvalidInput, NotFound
 from app.stability import Rules, StabilityError
@@ -113,7 +113,9 @@ def _check_layout(wheelbase_m: Decimal, seats: list[tuple[str, Decimal]], rules:
 def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:
     """The vehicle with this registration (normalised), or None."""
     key = normalise_registration(registration_number)
-    return session.scalar(select(Vehicle).where(Vehicle.registration_key == key))
+    # The seats in the same round trip: every caller reads them.
+    query = select(Vehicle).where(Vehicle.registration_key == key).options(joinedload(Vehicle.seats))
+    return session.scalars(query).unique().one_or_none()
 
 
 def get_vehicle(session: Session, registration_number: str) -> Vehicle:
