@@ -111,6 +111,48 @@ def wrk(url: str, connections: int, duration: int, env: dict[str, str], script: 
     return subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout
 
 
+def _descendants(pid: int) -> list[int]:
+    """The process and all its children, recursively (the uvicorn workers of `trikecert serve`)."""
+    found = [pid]
+    for task in Path(f"/proc/{pid}/task").glob("*/children"):
+        for child in task.read_text().split():
+            found += _descendants(int(child))
+    return found
+
+
+def _postgres_pids() -> list[int]:
+    return [int(p.parent.name) for p in Path("/proc").glob("[0-9]*/comm") if _read(p).strip() == "postgres"]
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text()
+    except OSError:  # the process ended meanwhile
+        return ""
+
+
+def cpu_seconds(pids: list[int]) -> float:
+    """User + system CPU seconds the processes have used so far (from /proc/PID/stat)."""
+    ticks = 0
+    for pid in pids:
+        fields = _read(Path(f"/proc/{pid}/stat")).rpartition(")")[2].split()
+        if fields:
+            ticks += int(fields[11]) + int(fields[12])  # utime, stime
+    return ticks / os.sysconf("SC_CLK_TCK")
+
+
+def measured(
+    url: str, connections: int, args: argparse.Namespace, env: dict[str, str], server: int, script: str | None
+) -> tuple[tuple[float, str, str, int], float, float]:
+    """wrk's figures, and the server's and PostgreSQL's CPU milliseconds per answered request."""
+    app_before, db_before = cpu_seconds(_descendants(server)), cpu_seconds(_postgres_pids())
+    result = parse_wrk(wrk(url, connections, args.duration, env, script=script))
+    requests = max(1.0, result[0] * args.duration)
+    app_ms = 1000 * (cpu_seconds(_descendants(server)) - app_before) / requests
+    db_ms = 1000 * (cpu_seconds(_postgres_pids()) - db_before) / requests
+    return result, app_ms, db_ms
+
+
 def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
     """Start a server on the backend, run every load, and return markdown table rows."""
     scratch = Path(tempfile.mkdtemp(prefix="trikecert-bench-"))
@@ -137,15 +179,16 @@ def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
         wrk_env = dict(env, TRIKECERT_BENCH_KEY=key, TRIKECERT_BENCH_VEHICLES=str(VEHICLES))
         base = f"http://127.0.0.1:{port}"
         for connections in args.connections:
-            health = parse_wrk(wrk(f"{base}/healthz", connections, args.duration, wrk_env))
-            post = parse_wrk(
-                wrk(base, connections, args.duration, wrk_env, script=str(ROOT / "bench/post_inspection.lua"))
-            )
+            health, health_cpu, _ = measured(f"{base}/healthz", connections, args, wrk_env, server.pid, None)
+            script = str(ROOT / "bench/post_inspection.lua")
+            post, post_cpu, post_db = measured(base, connections, args, wrk_env, server.pid, script)
             load = os.getloadavg()[0]  # other work on the machine skews every figure: show it
             share = 100 * post[0] / health[0]
+            db = f"{post_db:.2f}" if backend == "postgresql" else "(in app)"
             rows.append(
                 f"| {backend} | {connections} | {health[0]:.0f} | {health[1]} / {health[2]} | "
-                f"{post[0]:.0f} | {post[1]} / {post[2]} | {share:.1f} % | {post[3]} | {load:.1f} |"
+                f"{post[0]:.0f} | {post[1]} / {post[2]} | {share:.1f} % | {post[3]} | "
+                f"{health_cpu:.2f} | {post_cpu:.2f} | {db} | {load:.1f} |"
             )
             print(rows[-1], flush=True)
     finally:
@@ -172,9 +215,10 @@ def main() -> None:
     )
     print(
         "| backend | connections | /healthz req/s | /healthz p50 / p99 | POST req/s | POST p50 / p99 "
-        "| POST / healthz | non-2xx | load avg (1 min) |"
+        "| POST / healthz | non-2xx | app CPU ms per /healthz | app CPU ms per POST | PostgreSQL CPU ms "
+        "per POST | load avg (1 min) |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for backend in args.backends.split(","):
         run_backend(backend, args)
 

@@ -53,8 +53,9 @@ class RateLimited(ServiceError):
         self.headers = {"Retry-After": str(retry_after)}
 
 
-def _on_conflict_count(statement: Any) -> Any:
-    """Open a new window, or count this request in the current one; return the count and window."""
+def _on_conflict_count(statement: Any, *returning: Any) -> Any:
+    """Open a new window, or count this request in the current one; return the count and window
+    (after any `returning` columns)."""
     row = StationRateWindow
     current = row.window_start >= statement.excluded.window_start  # a late request counts in the newer one
     return statement.on_conflict_do_update(
@@ -63,7 +64,7 @@ def _on_conflict_count(statement: Any) -> Any:
             "request_count": case((current, row.request_count + 1), else_=1),
             "window_start": case((current, row.window_start), else_=statement.excluded.window_start),
         },
-    ).returning(row.request_count, row.window_start)
+    ).returning(*returning, row.request_count, row.window_start)
 
 
 def _upsert(session: Session, station_id: int, window_start: int) -> Any:
@@ -118,9 +119,12 @@ def _authenticate_and_count_statement() -> Any:
         postgresql.insert(StationRateWindow).from_select(
             ["station_id", "window_start", "request_count"],
             select(station.c.id, bindparam("window_start", type_=BigInteger), literal(1)),
-        )
+        ),
+        StationRateWindow.station_id,
     ).cte("counted")
-    return select(station, counted.c.request_count, counted.c.window_start).select_from(station, counted)
+    return select(station, counted.c.request_count, counted.c.window_start).join_from(
+        station, counted, station.c.id == counted.c.station_id
+    )
 
 
 def authenticate_and_count(
