@@ -11,7 +11,8 @@ from dataclasses import dataclass
 from datetime import datetime
 
 import segno
-from fpdf import FPDF, FontFace
+from fpdf import FPDF
+from fpdf.enums import RenderStyle
 
 from app.certificates.chart import Box, draw_chart
 from app.certificates.facts import CaseFacts, Facts
@@ -22,6 +23,7 @@ PAGE_W = 210.0
 CONTENT_W = PAGE_W - 2 * MARGIN
 PAGE_H = 297.0
 VALIDITY_Y = PAGE_H - MARGIN - 14
+QR_MASK = 1
 COMPACT_AFTER = 6  # more loading cases than this: smaller table rows, reasons in one paragraph
 TABLE_HEADINGS = (
     "Occupants",
@@ -220,37 +222,54 @@ def _verdict(pdf: FPDF, document: CertificateDocument) -> None:
     pdf.ln(2)
 
 
+COLUMN_WIDTHS = (34.0, 24.0, 30.0, 20.0, 24.0, 20.0, 18.0)
+COLUMN_ALIGN = ("L", "R", "R", "R", "R", "R", "C")
+CELL_PADDING = 1.2  # mm left and right of the text in a table cell
+
+
 def _table(pdf: FPDF, facts: Facts) -> None:
+    # Plain bordered cells: fpdf2's table() lays out every cell as a multi-line box, which cost a
+    # third of the page's rendering time for rows that are always one line.
     pdf.set_font("helvetica", "B", 11)
     pdf.cell(CONTENT_W, 6, "Loading cases (Table 4 of the study)", new_x="LMARGIN", new_y="NEXT")
     compact = len(facts.cases) > COMPACT_AFTER
-    pdf.set_font("helvetica", "", 7 if compact else 9)
-    headings = FontFace(emphasis="BOLD", fill_color=(225, 225, 225))
-    with pdf.table(
-        col_widths=(34, 24, 30, 20, 24, 20, 18),
-        text_align=("LEFT", *["RIGHT"] * 5, "CENTER"),
-        line_height=3 if compact else 4.6,
-        headings_style=headings,
-        padding=(0.2 if compact else 0.6, 1.2),
-    ) as table:
-        table.row(TABLE_HEADINGS)
-        for case in facts.cases:
-            table.row(
-                (
-                    latin1(case.label + (" *" if case.measured else "")),
-                    kg(case.total_kg),
-                    kg(case.rear_kg),
-                    ratio(case.lsf),
-                    limit_text(),
-                    signed(case.variance),
-                    "C" if case.compliant else "NC",
-                )
-            )
+    size, line = (7.0, 3.0) if compact else (9.0, 4.6)
+    row_h = line + (0.4 if compact else 1.2)
+    _table_headings(pdf, size, line)
+    pdf.set_font("helvetica", "", size)
+    pdf.c_margin = CELL_PADDING
+    for case in facts.cases:
+        values = (
+            latin1(case.label + (" *" if case.measured else "")),
+            kg(case.total_kg),
+            kg(case.rear_kg),
+            ratio(case.lsf),
+            limit_text(),
+            signed(case.variance),
+            "C" if case.compliant else "NC",
+        )
+        for width, align, value in zip(COLUMN_WIDTHS, COLUMN_ALIGN, values, strict=True):
+            pdf.cell(width, row_h, value, border=1, align=align, new_x="RIGHT", new_y="TOP")
+        pdf.ln(row_h)
     pdf.set_font("helvetica", "", 7.5)
     note = "C: compliant (LSF below 2/3). NC: not compliant. Variance = 2/3 - LSF. LSF = rear / total weight."
     if any(case.measured for case in facts.cases):
         note += " * weighed directly with the occupants or ballast aboard."
     pdf.cell(CONTENT_W, 4, note, new_x="LMARGIN", new_y="NEXT")
+
+
+def _table_headings(pdf: FPDF, size: float, line: float) -> None:
+    """The headings row: grey, bold, each heading wrapped within its column, two lines high."""
+    pdf.set_font("helvetica", "B", size)
+    height = 2 * line + 1.2
+    top, x = pdf.get_y(), MARGIN
+    pdf.set_fill_color(225, 225, 225)
+    for width, align, heading in zip(COLUMN_WIDTHS, COLUMN_ALIGN, TABLE_HEADINGS, strict=True):
+        pdf.rect(x, top, width, height, style="DF")
+        pdf.set_xy(x + CELL_PADDING, top + 0.6)
+        pdf.multi_cell(width - 2 * CELL_PADDING, line, heading, align=align, new_x="LEFT", new_y="NEXT")
+        x += width
+    pdf.set_xy(MARGIN, top + height)
 
 
 def _chart_and_qr(pdf: FPDF, document: CertificateDocument) -> None:
@@ -299,13 +318,16 @@ def _chart_and_qr(pdf: FPDF, document: CertificateDocument) -> None:
 
 def _draw_qr(pdf: FPDF, data: str, x: float, y: float, size: float) -> None:
     """The QR code as filled vector squares, with its quiet zone."""
-    code = segno.make(data, error="m", boost_error=False)
+    # A fixed mask pattern: any of the eight decodes alike, and scoring all eight for the "best" one
+    # (segno's default) costs four times the rest of the page.
+    code = segno.make(data, error="m", boost_error=False, mask=QR_MASK)
     border = 2
     rows = [list(row) for row in code.matrix_iter(border=border)]
     module = size / len(rows)
     pdf.set_fill_color(255, 255, 255)
     pdf.rect(x, y, size, size, style="F")
     pdf.set_fill_color(0, 0, 0)
+    fill = RenderStyle.F  # the enum itself: a string would be parsed again for each of ~1000 squares
     for r, row in enumerate(rows):
         c = 0
         while c < len(row):
@@ -315,4 +337,4 @@ def _draw_qr(pdf: FPDF, data: str, x: float, y: float, size: float) -> None:
             start = c
             while c < len(row) and row[c]:
                 c += 1
-            pdf.rect(x + start * module, y + r * module, (c - start) * module, module, style="F")
+            pdf.rect(x + start * module, y + r * module, (c - start) * module, module, style=fill)
