@@ -7,7 +7,8 @@ Loads with set-based INSERT ... SELECT generate_series (one statement per table 
 server), then times, through the application's own code (app.inspections.service.list_inspections,
 the query behind GET /api/v1/inspections and the vehicle page), p50 / p99 over --runs runs each:
 a vehicle's history, the filtered list (compliant=false, since, page 1 and a deep page) with its
-count, and the daily statistics (inspections per day, compliant or not, over the last 30 days).
+count, and the statistics page's counts (app.statistics.service.statistics: per local day, per
+station, certificates) over the last 30 and 366 days.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import statistics
 import time
 from collections.abc import Callable
 from datetime import UTC, datetime, timedelta
+from zoneinfo import ZoneInfo
 
 from sqlalchemy import Engine, create_engine, text
 from sqlalchemy.engine import make_url
@@ -149,6 +151,7 @@ def timed(runs: int, query: Callable[[int], object]) -> tuple[float, float]:
 def measure(engine: Engine, *, vehicles: int, runs: int) -> list[tuple[str, float, float]]:
     """Time each query; (name, p50 ms, p99 ms)."""
     from app.inspections.service import InspectionFilter, list_inspections
+    from app.statistics.service import Period, statistics
 
     rng = random.Random(6)
     since = datetime.now(UTC) - timedelta(days=90)
@@ -169,22 +172,24 @@ def measure(engine: Engine, *, vehicles: int, runs: int) -> list[tuple[str, floa
 
             return run
 
-        def daily(_run: int) -> None:
-            session.execute(
-                text(
-                    "SELECT date_trunc('day', created_at) AS day, count(*), "
-                    "count(*) FILTER (WHERE compliant) "
-                    "FROM inspection WHERE created_at >= now() - interval '30 days' GROUP BY 1 ORDER BY 1"
-                )
-            ).all()
-            session.rollback()
+        zone = ZoneInfo("Africa/Lagos")
+        today = datetime.now(zone).date()
+
+        def daily(days: int) -> Callable[[int], object]:
+            def run(_run: int) -> None:
+                period = Period(today - timedelta(days=days - 1), today)
+                statistics(session, period=period, zone=zone)
+                session.rollback()
+
+            return run
 
         history(0)  # warm the caches
         queries = [
             ("vehicle history (registration_number=, newest 50, with count)", history),
             ("filtered list: compliant=false, since 90 days, page 1 + count", filtered(0)),
             ("filtered list: compliant=false, since 90 days, offset 5000 + count", filtered(5000)),
-            ("daily statistics: last 30 days, per day, compliant or not", daily),
+            ("statistics page's counts: last 30 days (per day, per station, certificates)", daily(30)),
+            ("statistics page's counts: last 366 days", daily(366)),
         ]
         return [(name, *timed(runs, query)) for name, query in queries]
 

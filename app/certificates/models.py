@@ -75,7 +75,7 @@ class Certificate(Base):
     registration_number: Mapped[str] = mapped_column(String(32))
     compliant: Mapped[bool] = mapped_column(Boolean)
     max_compliant_occupants: Mapped[int] = mapped_column(Integer)
-    issued_at: Mapped[datetime] = mapped_column(UTCDateTime())
+    issued_at: Mapped[datetime] = mapped_column(UTCDateTime(), index=True)
     expires_at: Mapped[datetime] = mapped_column(UTCDateTime())
     issued_by: Mapped[str] = mapped_column(
         String(200)

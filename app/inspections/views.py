@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from datetime import date
 from typing import Any
 
 from fastapi import APIRouter
@@ -29,7 +28,7 @@ from app.web import submissions
 from app.web.chart import ChartPoint, lsf_chart, short_label
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.formatting import day_bounds, local_today
-from app.web.forms import FormErrors
+from app.web.forms import FormErrors, read_date
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -183,16 +182,6 @@ def inspection_page(
 VERDICTS = {"": None, "compliant": True, "not-compliant": False}
 
 
-def _date(raw: str, name: str, errors: FormErrors) -> date | None:
-    if not raw:
-        return None
-    try:
-        return date.fromisoformat(raw)
-    except ValueError:
-        errors.add(name, "Enter the date as year-month-day, like 2026-11-23")
-        return None
-
-
 @router.get("/inspections")
 def inspections_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
     """Inspections, newest first, filtered by verdict, station, dates and registration, a page at a time."""
@@ -206,7 +195,7 @@ def inspections_page(request: Request, session: SessionDep, login: CurrentLogin)
         errors.add("verdict", "Choose compliant, not compliant or all")
         values["verdict"] = ""
     station_id = int(values["station"]) if values["station"].isdigit() else None
-    since_day, until_day = _date(values["from"], "from", errors), _date(values["to"], "to", errors)
+    since_day, until_day = read_date(values["from"], "from", errors), read_date(values["to"], "to", errors)
     if since_day and until_day and until_day < since_day:
         errors.add("to", "The 'to' date must be the same as or after the 'from' date")
         until_day = None

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
+from datetime import date
 from decimal import Decimal, InvalidOperation
 
 from starlette.datastructures import FormData
@@ -59,6 +60,17 @@ class FormErrors:
 
     def __bool__(self) -> bool:
         return bool(self.messages)
+
+
+def read_date(raw: str, input_id: str, errors: FormErrors) -> date | None:
+    """A date typed as year-month-day, None when blank; otherwise an error for the input."""
+    if not raw:
+        return None
+    try:
+        return date.fromisoformat(raw)
+    except ValueError:
+        errors.add(input_id, "Enter the date as year-month-day, like 2026-11-23")
+        return None
 
 
 def find_input(path: str, input_for: dict[str, str], fallback: str) -> str:

@@ -11,6 +11,7 @@ from app.accounts.admin_views import router as admin_router
 from app.accounts.views import router as accounts_router
 from app.inspections.views import router as inspections_router
 from app.stations.views import router as stations_router
+from app.statistics.views import router as statistics_router
 from app.vehicles.views import router as vehicles_router
 from app.web.errors import install_web_error_handlers
 from app.web.headers import PageHeaders
@@ -30,6 +31,7 @@ def install_web(app: FastAPI) -> None:
         stations_router,
         vehicles_router,
         inspections_router,
+        statistics_router,
     ):
         app.include_router(router)
     app.add_middleware(PageHeaders)

@@ -126,6 +126,7 @@ MAIN_PAGES: list[tuple[str, str, Callable[[Page], None] | None]] = [
     ("new-inspection-errors", "/vehicles/BDG252QH/inspections/new", submit_invalid_inspection),
     ("inspection", "/inspections/{id}", None),
     ("inspections", "/inspections", None),
+    ("statistics", "/statistics", None),
     ("users", "/admin/users", None),
     ("new-station", "/admin/stations/new", None),
     ("new-station-errors", "/admin/stations/new", submit_invalid_station),

@@ -1,0 +1,89 @@
+"""The regulators' statistics page and its CSV: inspections per day and per station over a period."""
+
+from __future__ import annotations
+
+import csv
+import io
+from datetime import UTC, timedelta
+
+from fastapi import APIRouter
+from sqlalchemy import select
+from starlette.requests import Request
+from starlette.responses import Response
+
+from app.stations.models import Station
+from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
+from app.web.deps import CurrentLogin, SessionDep
+from app.web.formatting import local_today, local_zone
+from app.web.forms import FormErrors, read_date
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+DEFAULT_DAYS = 30
+
+
+def read_filters(request: Request, errors: FormErrors) -> tuple[dict[str, str], Period, int | None]:
+    """The period (default: the last 30 days, today included) and station asked for, or the errors."""
+    query = request.query_params
+    values = {name: query.get(name, "").strip()[:40] for name in ("from", "to", "station")}
+    today = local_today()
+    last = read_date(values["to"], "to", errors) or today
+    first = read_date(values["from"], "from", errors) or last - timedelta(days=DEFAULT_DAYS - 1)
+    if last < first:
+        errors.add("to", "The 'to' date must be the same as or after the 'from' date")
+        first, last = last - timedelta(days=DEFAULT_DAYS - 1), last
+    elif (last - first).days + 1 > MAX_DAYS:
+        errors.add("from", f"Choose a period of at most {MAX_DAYS} days")
+        first = last - timedelta(days=MAX_DAYS - 1)
+    station = values["station"]
+    station_id = int(station) if station.isdigit() and len(station) < 10 else None
+    if station and station_id is None:
+        errors.add("station", "Choose a station from the list")
+    return values, Period(first, last), station_id
+
+
+def _statistics(request: Request, session: SessionDep) -> tuple[dict[str, str], Statistics, FormErrors]:
+    errors = FormErrors()
+    values, period, station_id = read_filters(request, errors)
+    return values, statistics(session, period=period, zone=local_zone() or UTC, station_id=station_id), errors
+
+
+@router.get("/statistics")
+def statistics_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+    """Totals, inspections per day and per station, and certificates, for a period and a station."""
+    values, stats, errors = _statistics(request, session)
+    stations = session.scalars(select(Station).order_by(Station.name)).all()
+    return render(
+        request,
+        "statistics/show.html",
+        {
+            "values": values,
+            "errors": errors.messages,
+            "stats": stats,
+            "busiest": busiest(stats.days),
+            "stations": stations,
+            "station_name": next((s.name for s in stations if str(s.id) == values["station"]), None),
+            "csv_query": request.url.query,
+        },
+        status_code=422 if errors else 200,
+    )
+
+
+@router.get("/statistics.csv")
+def statistics_csv(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+    """The same period's counts per day as CSV, for a spreadsheet."""
+    _values, stats, errors = _statistics(request, session)
+    if errors:
+        return Response("; ".join(errors.messages.values()), status_code=422, media_type="text/plain")
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\r\n")
+    writer.writerow(["date", "inspections", "compliant", "not_compliant"])
+    for day in stats.days:
+        counts = day.counts
+        writer.writerow([day.day.isoformat(), counts.inspections, counts.compliant, counts.not_compliant])
+    name = f"trikecert-statistics-{stats.period.first.isoformat()}-{stats.period.last.isoformat()}.csv"
+    return Response(
+        out.getvalue(),
+        media_type="text/csv; charset=utf-8",
+        headers={"Content-Disposition": f'attachment; filename="{name}"'},
+    )
