@@ -36,10 +36,15 @@ def fresh_database(backend: str, scratch: Path) -> str:
     """A new empty database URL for the backend."""
     if backend == "sqlite":
         return f"sqlite:///{scratch / 'bench.db'}"
+    return new_postgres_database("trikecert_bench")
+
+
+def new_postgres_database(prefix: str) -> str:
+    """Create an empty database with a random name on the benchmark server; its URL."""
     from sqlalchemy import create_engine, text
     from sqlalchemy.engine import make_url
 
-    name = f"trikecert_bench_{secrets.token_hex(4)}"
+    name = f"{prefix}_{secrets.token_hex(4)}"
     admin = create_engine(PG_SERVER, isolation_level="AUTOCOMMIT")
     with admin.connect() as connection:
         connection.execute(text(f'CREATE DATABASE "{name}"'))

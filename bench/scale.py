@@ -17,38 +17,22 @@ import argparse
 import os
 import platform
 import random
-import secrets
 import statistics
+import sys
 import time
 from collections.abc import Callable
 from datetime import UTC, datetime, timedelta
+from pathlib import Path
 from zoneinfo import ZoneInfo
 
 from sqlalchemy import Engine, create_engine, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.orm import Session
 
-PG_SERVER = os.environ.get("TRIKECERT_BENCH_PG", "postgresql+psycopg://postgres@127.0.0.1:5432/test")
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from load import drop_database, new_postgres_database
+
 BATCH = 100_000  # inspections per INSERT ... SELECT (each with 5 loading cases and 12 readings)
-
-
-def fresh_database() -> str:
-    """A new empty database URL on the benchmark server, migrated to head."""
-    name = f"trikecert_scale_{secrets.token_hex(4)}"
-    admin = create_engine(PG_SERVER, isolation_level="AUTOCOMMIT")
-    with admin.connect() as connection:
-        connection.execute(text(f'CREATE DATABASE "{name}"'))
-    admin.dispose()
-    return make_url(PG_SERVER).set(database=name).render_as_string(hide_password=False)
-
-
-def drop_database(url: str) -> None:
-    """Drop the benchmark database."""
-    name = make_url(url).database
-    admin = create_engine(PG_SERVER, isolation_level="AUTOCOMMIT")
-    with admin.connect() as connection:
-        connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
-    admin.dispose()
 
 
 def load(engine: Engine, *, inspections: int, vehicles: int, stations: int, days: int) -> float:
@@ -151,7 +135,8 @@ def timed(runs: int, query: Callable[[int], object]) -> tuple[float, float]:
 def measure(engine: Engine, *, vehicles: int, runs: int) -> list[tuple[str, float, float]]:
     """Time each query; (name, p50 ms, p99 ms)."""
     from app.inspections.service import InspectionFilter, list_inspections
-    from app.statistics.service import Period, statistics
+    from app.statistics.service import Period
+    from app.statistics.service import statistics as period_statistics
 
     rng = random.Random(6)
     since = datetime.now(UTC) - timedelta(days=90)
@@ -178,7 +163,7 @@ def measure(engine: Engine, *, vehicles: int, runs: int) -> list[tuple[str, floa
         def daily(days: int) -> Callable[[int], object]:
             def run(_run: int) -> None:
                 period = Period(today - timedelta(days=days - 1), today)
-                statistics(session, period=period, zone=zone)
+                period_statistics(session, period=period, zone=zone)
                 session.rollback()
 
             return run
@@ -206,7 +191,7 @@ def main() -> None:
     parser.add_argument("--keep", action="store_true", help="keep the database (its URL is printed)")
     args = parser.parse_args()
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
-    url = args.url or fresh_database()
+    url = args.url or new_postgres_database("trikecert_scale")
     os.environ["TRIKECERT_DATABASE_URL"] = url
     engine = create_engine(url)
     try:
