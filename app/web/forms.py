@@ -62,15 +62,25 @@ class FormErrors:
         return bool(self.messages)
 
 
+# Dates a filter may name: far enough out for any inspection, and near enough that a day's bounds
+# in any time zone, or a period counted back from it, stay inside what `datetime` can hold.
+FIRST_FILTER_DAY = date(2000, 1, 1)
+LAST_FILTER_DAY = date(2099, 12, 31)
+
+
 def read_date(raw: str, input_id: str, errors: FormErrors) -> date | None:
     """A date typed as year-month-day, None when blank; otherwise an error for the input."""
     if not raw:
         return None
     try:
-        return date.fromisoformat(raw)
+        day = date.fromisoformat(raw)
     except ValueError:
         errors.add(input_id, "Enter the date as year-month-day, like 2026-11-23")
         return None
+    if not FIRST_FILTER_DAY <= day <= LAST_FILTER_DAY:
+        errors.add(input_id, "Enter a date from 1 January 2000 to 31 December 2099")
+        return None
+    return day
 
 
 def find_input(path: str, input_for: dict[str, str], fallback: str) -> str:

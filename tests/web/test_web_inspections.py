@@ -217,6 +217,14 @@ def test_the_list_filters_by_verdict_station_and_dates_and_pages(
         config.get_settings.cache_clear()
 
 
+def test_a_date_no_day_bound_can_hold_is_refused_beside_its_field(web: TestClient) -> None:
+    for query in ("to=9999-12-31", "from=0001-01-01", "from=9999-12-31"):
+        page = web.get(f"/inspections?{query}")
+        field = query.split("=")[0]
+        assert page.status_code == 422, (query, page.text)
+        assert f'<a href="#{field}">Enter a date from 1 January 2000 to 31 December 2099</a>' in page.text
+
+
 def test_the_vehicles_page_shows_its_latest_table_4_and_chart(
     web: TestClient, study_vehicle: Vehicle
 ) -> None:

@@ -80,6 +80,9 @@ def test_a_bad_period_is_rerendered_with_the_message_beside_the_field(web: TestC
     backwards = web.get(f"/statistics?from={today.isoformat()}&to={(today - timedelta(days=3)).isoformat()}")
     too_long = web.get(f"/statistics?from={(today - timedelta(days=400)).isoformat()}")
     not_a_date = web.get("/statistics?to=last+week&station=x")
+    out_of_range = [
+        web.get(f"/statistics?{q}") for q in ("to=0001-01-01", "to=9999-12-31", "from=0001-01-01")
+    ]
 
     assert backwards.status_code == too_long.status_code == not_a_date.status_code == 422
     assert '<a href="#to">The &#39;to&#39; date must be the same as or after the &#39;from&#39; date</a>' in (
@@ -89,6 +92,9 @@ def test_a_bad_period_is_rerendered_with_the_message_beside_the_field(web: TestC
     assert '<a href="#to">Enter the date as year-month-day, like 2026-11-23</a>' in not_a_date.text
     assert '<a href="#station">Choose a station from the list</a>' in not_a_date.text
     assert 'value="last week"' in not_a_date.text, "the entered value stays"
+    for page in out_of_range:
+        assert page.status_code == 422, page.text
+        assert "Enter a date from 1 January 2000 to 31 December 2099" in page.text
 
 
 def test_the_csv_has_one_row_per_day_with_the_counts(
