@@ -85,25 +85,12 @@ def _check(limit: RateLimit, count: int, started: int, now: float) -> None:
         raise RateLimited(limit, retry_after)
 
 
-def count_request(session: Session, *, station_id: int, limit: RateLimit, now: float | None = None) -> None:
-    """Count one request of this station and commit; RateLimited when it is over the limit."""
-    if limit.limit <= 0:
-        return
-    now = time.time() if now is None else now
-    statement = _upsert(session, station_id, _window_start(limit, now))
-    bind = session.get_bind()
-    if bind.dialect.name == "postgresql" and isinstance(bind, Engine):
-        # Every request of a station bumps the same row: run the upsert as one autocommit statement,
-        # so its row lock is held only while the server runs it, never across a round trip or a
-        # Python thread waiting for the GIL. The session's read (the key lookup) ends first, so a
-        # request never holds two pooled connections.
-        session.commit()
-        with bind.connect().execution_options(isolation_level="AUTOCOMMIT") as connection:
-            count, started = connection.execute(statement).one()
-    else:
-        begin_write(session)  # SQLite: the writer's turn, for this one statement and its commit
-        count, started = session.execute(statement).one()
-        session.commit()
+def _count_in_session(session: Session, *, station_id: int, limit: RateLimit, now: float) -> None:
+    """Count one request of this station in the session's own transaction and commit; RateLimited
+    when it is over the limit. SQLite takes the writer's turn for the statement and its commit."""
+    begin_write(session)
+    count, started = session.execute(_upsert(session, station_id, _window_start(limit, now))).one()
+    session.commit()
     _check(limit, count, started, now)
 
 
@@ -134,21 +121,24 @@ def authenticate_and_count(
 
     The station joins the session as a persistent object, as if loaded by it.
     """
+    now = time.time() if now is None else now
     bind = session.get_bind()
     if limit.limit <= 0 or bind.dialect.name != "postgresql" or not isinstance(bind, Engine):
         station = authenticate_station(session, key)
-        if station is not None:
-            count_request(session, station_id=station.id, limit=limit, now=now)
+        if station is not None and limit.limit > 0:
+            _count_in_session(session, station_id=station.id, limit=limit, now=now)
         return station
-    now = time.time() if now is None else now
+    # Every request of a station bumps the same row: the statement runs in autocommit on its own
+    # connection, so the row lock is held only while the server runs it, never across a round trip
+    # or a Python thread waiting for the GIL; it is returned before the session takes one.
     parameters = {"key_hash": hash_key(key), "window_start": _window_start(limit, now)}
     with bind.connect().execution_options(isolation_level="AUTOCOMMIT") as connection:
         row = connection.execute(_authenticate_and_count_statement(), parameters).mappings().one_or_none()
     if row is None:
         return None
-    station = Station(**{column.key: row[column.name] for column in Station.__table__.columns})
-    make_transient_to_detached(station)
-    session.add(station)
+    found = Station(**{column.key: row[column.name] for column in Station.__table__.columns})
+    make_transient_to_detached(found)
+    station = session.merge(found, load=False)  # the session's own instance if it already has one
     _check(limit, row["request_count"], row["window_start"], now)
     return station
 

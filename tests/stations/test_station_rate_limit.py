@@ -10,7 +10,7 @@ from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
 from app import config
-from app.stations.rate_limit import RateLimit, RateLimited, count_request
+from app.stations.rate_limit import RateLimit, RateLimited, authenticate_and_count
 from app.stations.service import create_station
 
 INSPECTIONS = "/api/v1/inspections"
@@ -46,25 +46,25 @@ def test_beyond_the_limit_a_station_gets_429_with_retry_after(client: TestClient
 
 
 def test_the_window_reopens_and_retry_after_counts_down(session: Session) -> None:
-    station, _key = create_station(session, name="Station A")
+    station, key = create_station(session, name="Station A")
     limit = RateLimit(limit=2, window_seconds=60)
     for now in (1200.0, 1210.0):
-        count_request(session, station_id=station.id, limit=limit, now=now)
+        assert authenticate_and_count(session, key, limit=limit, now=now) is station
     with pytest.raises(RateLimited) as refused:
-        count_request(session, station_id=station.id, limit=limit, now=1249.5)
+        authenticate_and_count(session, key, limit=limit, now=1249.5)
     assert refused.value.retry_after == 11
-    count_request(session, station_id=station.id, limit=limit, now=1260.0)  # a new window
+    assert authenticate_and_count(session, key, limit=limit, now=1260.0) is station  # a new window
 
 
 def test_a_late_request_counts_in_the_newer_window(session: Session) -> None:
-    station, _key = create_station(session, name="Station A")
+    _station, key = create_station(session, name="Station A")
     limit = RateLimit(limit=1, window_seconds=60)
-    count_request(session, station_id=station.id, limit=limit, now=1265.0)
+    authenticate_and_count(session, key, limit=limit, now=1265.0)
     with pytest.raises(RateLimited):  # timed by a worker just before the window turned
-        count_request(session, station_id=station.id, limit=limit, now=1259.9)
+        authenticate_and_count(session, key, limit=limit, now=1259.9)
 
 
 def test_a_limit_of_zero_is_no_limit(session: Session) -> None:
-    station, _key = create_station(session, name="Station A")
+    station, key = create_station(session, name="Station A")
     for _ in range(5):
-        count_request(session, station_id=station.id, limit=RateLimit(0, 60))
+        assert authenticate_and_count(session, key, limit=RateLimit(0, 60)) is station
