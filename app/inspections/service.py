@@ -158,8 +158,8 @@ def record_inspection(
         )
         for case in result.cases
     ]
-    connection.execute(_READING.insert(), [_columns(row, READING_COLUMNS) for row in readings])
-    connection.execute(_CASE.insert(), [_columns(row, CASE_COLUMNS) for row in cases])
+    connection.execute(_READING.insert(), [_values(row, _READING) for row in readings])
+    connection.execute(_CASE.insert(), [_values(row, _CASE) for row in cases])
     # The rows just inserted join the session as persistent objects (no second INSERT), and the
     # inspection gets its vehicle, station and collections in their relationships' order, without
     # reading anything back.
@@ -184,22 +184,11 @@ _INSPECTION = cast(Table, Inspection.__table__)
 _READING = cast(Table, Reading.__table__)
 _CASE = cast(Table, LoadingCaseRow.__table__)
 _INSERT_INSPECTION = _INSPECTION.insert().returning(_INSPECTION.c.id)
-READING_COLUMNS = ("inspection_id", "case_occupants", "wheel", "sequence", "value_kg")
-CASE_COLUMNS = (
-    "inspection_id",
-    "occupants",
-    "total_kg",
-    "rear_kg",
-    "lsf",
-    "variance",
-    "compliant",
-    "measured",
-    "lsf_exact",
-)
 
 
-def _columns(row: object, names: tuple[str, ...]) -> dict[str, object]:
-    return {name: getattr(row, name) for name in names}
+def _values(row: object, table: Table) -> dict[str, object]:
+    """A row object's value for every column of its table, for a Core INSERT."""
+    return {column.key: getattr(row, column.key) for column in table.columns}
 
 
 def _scale(value: Decimal, places: int) -> Decimal:
