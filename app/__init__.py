@@ -1,1 +1,8 @@
 """trikecert: lateral stability certification of delta tricycle taxis."""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("trikecert")
+except PackageNotFoundError:  # running from a source tree that was never installed
+    __version__ = "0+unknown"

@@ -12,6 +12,7 @@ from dataclasses import replace
 from datetime import date
 from decimal import Decimal, InvalidOperation
 
+from app import __version__
 from app.certificates.cli import add_certificate_commands
 from app.config import get_settings
 from app.db import get_engine, get_sessionmaker
@@ -208,6 +209,7 @@ def _station_options(parser: argparse.ArgumentParser) -> None:
 def build_parser() -> argparse.ArgumentParser:
     """The command line: one sub-command per job."""
     parser = argparse.ArgumentParser(prog="trikecert", description="Lateral stability certification service.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
 
     serve = commands.add_parser("serve", help="apply migrations, then serve HTTP")

@@ -9,6 +9,7 @@ import anyio.to_thread
 from fastapi import FastAPI
 
 import app.models  # noqa: F401  (every table known to the mapper, whichever route loads first)
+from app import __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.api.router import api_router
@@ -44,7 +45,7 @@ def create_app() -> FastAPI:
     """Build the application from the current settings."""
     settings = get_settings()
     configure_logging()
-    app = FastAPI(title="trikecert", version="0.1.0", description=DESCRIPTION, lifespan=lifespan)
+    app = FastAPI(title="trikecert", version=__version__, description=DESCRIPTION, lifespan=lifespan)
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.include_router(api_router)
