@@ -1,4 +1,5 @@
-"""Sign in: check the lock-out, the password and the account, log the attempt, start a session."""
+"""Sign in: count the check against the lock-out, verify the password and the account, log the attempt,
+start a session."""
 
 from __future__ import annotations
 
@@ -30,7 +31,8 @@ def sign_in(
 ) -> SignInResult:
     """Start a session when the credentials are right, the account active and not locked out."""
     email = normalise_email(email)[:254]
-    if throttle.is_locked_out(session, email=email, client_ip=client_ip, settings=settings):
+    check = throttle.claim_check(session, email=email, client_ip=client_ip, settings=settings)
+    if check is None:
         throttle.record_attempt(
             session, email=email, outcome=throttle.LOCKED_OUT, user_id=None, client_ip=client_ip
         )
@@ -44,12 +46,14 @@ def sign_in(
     elif not user.active:
         outcome = throttle.DISABLED
     else:
+        throttle.settle_check(session, check, outcome=throttle.SUCCESS)
         throttle.record_attempt(
             session, email=email, outcome=throttle.SUCCESS, user_id=user.id, client_ip=client_ip
         )
         return SignInResult(
             started=start_session(session, user=user, settings=settings), outcome=throttle.SUCCESS
         )
+    throttle.settle_check(session, check, outcome=outcome)
     throttle.record_attempt(
         session, email=email, outcome=outcome, user_id=user.id if user else None, client_ip=client_ip
     )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from datetime import datetime
 
-from sqlalchemy import Boolean, CheckConstraint, ForeignKey, Index, String
+from sqlalchemy import BigInteger, Boolean, CheckConstraint, ForeignKey, Index, Integer, String
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
@@ -59,3 +59,18 @@ class LoginAttempt(Base):
     client_ip: Mapped[str | None] = mapped_column(String(45))
     outcome: Mapped[str] = mapped_column(String(16))
     created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
+
+
+class LoginThrottle(Base):
+    """Password checks counted against one sign-in key ("email:..." or "address:..."), one row each.
+
+    A check is counted before the password is verified, by one atomic upsert that also reads the
+    count back, so concurrent guesses can never be verified beyond the limit.
+    """
+
+    __tablename__ = "login_throttle"
+
+    key: Mapped[str] = mapped_column(String(300), primary_key=True)
+    checks: Mapped[int] = mapped_column(Integer)
+    # Unix seconds of the last check counted while under the limit: the lock-out runs from there.
+    last_counted_at: Mapped[int] = mapped_column(BigInteger)

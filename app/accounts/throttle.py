@@ -1,16 +1,20 @@
-"""Sign-in attempts: logged to a table and the Python log (never the password), and the lock-out rule."""
+"""Sign-in attempts: logged to a table and the Python log (never the password), and the lock-out rule:
+every password check is counted, atomically, before the password is verified."""
 
 from __future__ import annotations
 
 import logging
-from datetime import timedelta
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
 
-from sqlalchemy import func, select
+from sqlalchemy import case, update
+from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
-from app.accounts.models import LoginAttempt
+from app.accounts.models import LoginAttempt, LoginThrottle
 from app.config import Settings
-from app.db import utcnow
+from app.db import begin_write
 
 log = logging.getLogger("trikecert.accounts.login")
 
@@ -32,41 +36,85 @@ def record_attempt(
     log.log(level, "sign-in %s for %r from %s", outcome, email[:254], client_ip or "unknown address")
 
 
-def recent_failures(session: Session, *, email: str, settings: Settings) -> int:
-    """Failed attempts for this email within the lock-out window and since its last success."""
-    since = utcnow() - timedelta(minutes=settings.login_lockout_minutes)
-    last_success = session.scalar(
-        select(func.max(LoginAttempt.created_at)).where(
-            LoginAttempt.email == email, LoginAttempt.outcome == SUCCESS, LoginAttempt.created_at >= since
+@dataclass(frozen=True)
+class ClaimedCheck:
+    """The counters that one password check was counted against, to be settled once it is decided."""
+
+    keys: tuple[str, ...]
+
+
+def claim_check(
+    session: Session, *, email: str, client_ip: str | None, settings: Settings, now: float | None = None
+) -> ClaimedCheck | None:
+    """Count one password check against the email and the client address, each in one atomic step;
+    None (locked out) when either has used up its allowance within the lock-out window.
+
+    The email may be checked `login_max_failures` times; an address, several times that many (an
+    office behind one address may hold several officers, but one address trying password after
+    password on many accounts is stopped too).
+    """
+    moment = int(time.time() if now is None else now)
+    window = settings.login_lockout_minutes * 60
+    limits = [(f"email:{email}", settings.login_max_failures)]
+    if client_ip is not None:
+        limits.append((f"address:{client_ip}", settings.login_max_failures * ADDRESS_FACTOR))
+    claimed: list[str] = []
+    for key, limit in limits:
+        if _count(session, key=key, limit=limit, window=window, now=moment) > limit:
+            _give_back(session, claimed)  # no password is checked: the other counters keep their count
+            return None
+        claimed.append(key)
+    return ClaimedCheck(keys=tuple(claimed))
+
+
+def settle_check(session: Session, check: ClaimedCheck, *, outcome: str) -> None:
+    """Once the password is decided: a wrong one keeps its count; a right one clears the email's
+    count (a success ends the run of failures) and is given back to the address."""
+    if outcome == BAD_CREDENTIALS:
+        return
+    email_key, *address_keys = check.keys
+    begin_write(session)
+    if outcome == SUCCESS:
+        session.execute(update(LoginThrottle).where(LoginThrottle.key == email_key).values(checks=0))
+        _give_back(session, address_keys)
+    else:
+        _give_back(session, check.keys)
+    session.commit()
+
+
+def _count(session: Session, *, key: str, limit: int, window: int, now: int) -> int:
+    """Count one check against `key` and read the count back, in one statement; a count whose last
+    check is older than the window starts again. Checks beyond the limit do not extend the window."""
+    dialect = session.get_bind().dialect.name
+    insert = postgresql.insert if dialect == "postgresql" else sqlite.insert
+    row = LoginThrottle
+    lapsed = row.last_counted_at < now - window
+    statement = (
+        insert(row)
+        .values(key=key, checks=1, last_counted_at=now)
+        .on_conflict_do_update(
+            index_elements=[row.key],
+            set_={
+                "checks": case((lapsed, 1), else_=row.checks + 1),
+                "last_counted_at": case((lapsed | (row.checks < limit), now), else_=row.last_counted_at),
+            },
         )
+        .returning(row.checks)
     )
-    query = select(func.count()).where(
-        LoginAttempt.email == email,
-        LoginAttempt.outcome == BAD_CREDENTIALS,
-        LoginAttempt.created_at >= since,
-    )
-    if last_success is not None:
-        query = query.where(LoginAttempt.created_at > last_success)
-    return int(session.scalar(query) or 0)
+    begin_write(session)
+    count = int(session.execute(statement).scalar_one())
+    session.commit()
+    return count
 
 
-def address_failures(session: Session, *, client_ip: str, settings: Settings) -> int:
-    """Failed attempts from this address within the lock-out window, whatever the email."""
-    since = utcnow() - timedelta(minutes=settings.login_lockout_minutes)
-    query = select(func.count()).where(
-        LoginAttempt.client_ip == client_ip,
-        LoginAttempt.outcome == BAD_CREDENTIALS,
-        LoginAttempt.created_at >= since,
+def _give_back(session: Session, keys: Sequence[str]) -> None:
+    """Take back one counted check from each key."""
+    if not keys:
+        return
+    begin_write(session)
+    session.execute(
+        update(LoginThrottle)
+        .where(LoginThrottle.key.in_(keys), LoginThrottle.checks > 0)
+        .values(checks=LoginThrottle.checks - 1)
     )
-    return int(session.scalar(query) or 0)
-
-
-def is_locked_out(session: Session, *, email: str, client_ip: str | None, settings: Settings) -> bool:
-    """True when the email has reached the allowed failures within the window, or the address has
-    reached several times that many (one address trying password after password on many accounts)."""
-    if recent_failures(session, email=email, settings=settings) >= settings.login_max_failures:
-        return True
-    limit = settings.login_max_failures * ADDRESS_FACTOR
-    return (
-        client_ip is not None and address_failures(session, client_ip=client_ip, settings=settings) >= limit
-    )
+    session.commit()

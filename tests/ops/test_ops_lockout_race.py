@@ -1,0 +1,112 @@
+"""The sign-in lock-out holds under concurrency: a served app (real processes, two workers) gets 30
+wrong passwords for one account at the same moment, then the right one."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+from sqlalchemy import Engine, func, select
+from sqlalchemy.orm import Session
+
+from app.accounts.models import LoginAttempt
+from app.config import get_settings
+
+BIN = Path(sys.executable).parent
+EMAIL = "racer@example.org"
+PASSWORD = "a long passphrase for the race"
+GUESSES = 30
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+@pytest.fixture
+def served(engine: Engine, database_url: str) -> Iterator[str]:
+    """An officer account made with `trikecert create-user`, then `trikecert serve --workers 2`."""
+    env = dict(os.environ, TRIKECERT_DATABASE_URL=database_url)
+    subprocess.run(
+        [BIN / "trikecert", "create-user", EMAIL, "--role", "officer"],
+        input=PASSWORD + "\n",
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    port = _free_port()
+    server = subprocess.Popen(
+        [BIN / "trikecert", "serve", "--no-migrate", "--port", str(port), "--workers", "2"],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            try:
+                if httpx.get(f"{base}/readyz", timeout=2).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            time.sleep(0.2)
+        yield base
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
+
+
+def _login_form(base: str) -> tuple[dict[str, str], str]:
+    """The sign-in page's cookie and form token, as a browser holds them."""
+    page = httpx.get(f"{base}/login", timeout=10)
+    token = re.search(r'name="csrf_token" value="([^"]+)"', page.text)
+    assert token, page.text
+    return dict(page.cookies), token[1]
+
+
+def test_thirty_concurrent_wrong_passwords_check_no_more_than_the_limit_then_the_right_one_is_refused(
+    served: str, session: Session
+) -> None:
+    cookies, token = _login_form(served)
+    start = threading.Barrier(GUESSES)
+    statuses: list[int] = []
+
+    def guess(n: int) -> None:
+        with httpx.Client(cookies=cookies, timeout=60) as browser:
+            start.wait()
+            form = {"email": EMAIL, "password": f"wrong guess {n}", "csrf_token": token}
+            statuses.append(browser.post(f"{served}/login", data=form).status_code)
+
+    threads = [threading.Thread(target=guess, args=(n,)) for n in range(GUESSES)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    time.sleep(0.3)
+    with httpx.Client(cookies=cookies, timeout=60) as browser:
+        right = browser.post(
+            f"{served}/login", data={"email": EMAIL, "password": PASSWORD, "csrf_token": token}
+        )
+
+    limit = get_settings().login_max_failures
+    assert right.status_code == 429, "the right password must not get in once the account is locked out"
+    assert "too many failed sign-ins" in right.text
+    checked = session.scalar(
+        select(func.count()).where(LoginAttempt.email == EMAIL, LoginAttempt.outcome == "bad_credentials")
+    )
+    assert checked == limit == statuses.count(401)
+    assert sorted(statuses) == [401] * limit + [429] * (GUESSES - limit)
