@@ -17,7 +17,8 @@ def test_trikecert_version_prints_the_installed_version() -> None:
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == f"trikecert {__version__}"
-    assert __version__[0].isdigit() and __version__ != "0+unknown"
+    assert __version__ != "0+unknown"
+    assert __version__[0].isdigit()
 
 
 def test_files_the_service_leaves_beside_its_sqlite_database_are_ignored_by_git() -> None:
