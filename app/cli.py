@@ -13,6 +13,7 @@ from datetime import date
 from decimal import Decimal, InvalidOperation
 
 from app import __version__
+from app.audit.recorder import act_from_command_line
 from app.certificates.cli import add_certificate_commands
 from app.config import get_settings
 from app.db import get_engine, get_sessionmaker
@@ -259,15 +260,35 @@ def build_parser() -> argparse.ArgumentParser:
     user.add_argument("--role", choices=["officer", "admin"], required=True)
     user.set_defaults(handler=cmd_create_user)
 
+    audit = commands.add_parser(
+        "audit-verify",
+        help="check that no audit event was changed, removed or inserted since it was recorded",
+    )
+    audit.set_defaults(handler=cmd_audit_verify)
+
     demo = commands.add_parser("demo", help="load the study's vehicle and its inspection")
     demo.set_defaults(handler=cmd_demo)
     add_certificate_commands(commands)
     return parser
 
 
+def cmd_audit_verify(_args: argparse.Namespace) -> int:
+    """Check the audit log's hash chain; exit 1 when it was tampered with."""
+    from app.audit.service import verify_log
+
+    with get_sessionmaker()() as session:
+        report = verify_log(session)
+    if report.intact:
+        print(f"the audit log is intact: {report.events} events checked")
+        return 0
+    print(f"the audit log was tampered with: {report.reason} ({report.events} events before it are intact)")
+    return 1
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script."""
     args = build_parser().parse_args(argv)
+    act_from_command_line()
     try:
         code: int = args.handler(args)
     except ServiceError as error:

@@ -1,6 +1,8 @@
 """Imports every ORM model so the metadata is complete (for Alembic and the tests)."""
 
-from app.accounts.models import LoginAttempt, User, UserSession
+import app.audit.recorder  # noqa: F401  (the audit listener on every session)
+from app.accounts.models import LoginAttempt, LoginThrottle, User, UserSession
+from app.audit.models import AuditEvent
 from app.certificates.models import (
     Certificate,
     CertificateAudit,
@@ -16,6 +18,7 @@ from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
 
 __all__ = [
+    "AuditEvent",
     "Base",
     "Certificate",
     "CertificateAudit",
@@ -26,6 +29,7 @@ __all__ = [
     "Inspection",
     "LoadingCaseRow",
     "LoginAttempt",
+    "LoginThrottle",
     "Reading",
     "Seat",
     "SigningKey",

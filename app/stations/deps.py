@@ -8,6 +8,7 @@ from fastapi import Depends, HTTPException, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 from sqlalchemy.orm import Session
 
+from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.db import get_session
 from app.stations.models import Station
@@ -40,6 +41,7 @@ def current_station(
             "Authorization: the station key is not recognised or the station is disabled",
             headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
         )
+    act_as(session, Actor("station", station.id, station.name))
     return station
 
 

@@ -11,6 +11,7 @@ from starlette.requests import Request
 
 from app.accounts.models import UserSession
 from app.accounts.sessions import load_session, pop_flash
+from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.db import get_session
 from app.web import cookies
@@ -35,7 +36,10 @@ def _live_session(request: Request, session: Session) -> UserSession | None:
     token = cookies.read_cookie(request, cookies.SESSION)
     if not token:
         return None
-    return load_session(session, token=token, settings=get_settings())
+    record = load_session(session, token=token, settings=get_settings())
+    if record is not None:
+        act_as(session, Actor("user", record.user.id, record.user.email))
+    return record
 
 
 def current_login(request: Request, session: SessionDep) -> UserSession:

@@ -9,6 +9,7 @@ from fastapi.staticfiles import StaticFiles
 
 from app.accounts.admin_views import router as admin_router
 from app.accounts.views import router as accounts_router
+from app.audit.views import router as audit_router
 from app.inspections.views import router as inspections_router
 from app.stations.views import router as stations_router
 from app.statistics.views import router as statistics_router
@@ -28,6 +29,7 @@ def install_web(app: FastAPI) -> None:
         home_router,
         accounts_router,
         admin_router,
+        audit_router,
         stations_router,
         vehicles_router,
         inspections_router,

@@ -1,0 +1,126 @@
+"""Who did what, through the service's doors: officers' pages, a station's API calls and sign-ins
+land in the audit log that admins read, and any edit of the log is shown as tampering."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from fastapi.testclient import TestClient
+from sqlalchemy import Engine, select, text
+from sqlalchemy.exc import DBAPIError
+from sqlalchemy.orm import Session
+from study_data import STUDY_VEHICLE
+
+from app.accounts.models import User
+from app.audit.models import AuditEvent
+from app.certificates.guard import immutability_lifted
+from app.stations.service import create_station
+from web.webtools import ADMIN_EMAIL, hidden, post_form, sign_in
+
+BIN = Path(sys.executable).parent
+
+
+def events(session: Session) -> list[AuditEvent]:
+    session.expire_all()
+    return list(session.scalars(select(AuditEvent).order_by(AuditEvent.id)))
+
+
+def test_admin_actions_station_calls_and_sign_ins_are_recorded_with_who_did_them(
+    admin_web: TestClient, admin: User, client: TestClient, session: Session
+) -> None:
+    post_form(
+        admin_web,
+        "/admin/users/new",
+        "/admin/users/new",
+        {"email": "new.officer@example.org", "role": "officer", "password": "a long enough secret"},
+    )
+    station, key = create_station(session, name="Ọ̀yọ́ weighbridge")
+    page = admin_web.get(f"/admin/stations/{station.id}")
+    fields = {"csrf_token": hidden(page.text), "form_token": hidden(page.text, "form_token")}
+    rotated = admin_web.post(f"/admin/stations/{station.id}/key", data=fields, follow_redirects=False)
+    assert rotated.status_code == 200
+    new_key = rotated.text.split("tks_", 1)[1].split("<", 1)[0]
+    station_api = TestClient(client.app, headers={"Authorization": f"Bearer tks_{new_key}"})
+    assert station_api.post("/api/v1/vehicles", json=STUDY_VEHICLE).status_code == 201
+    stranger = TestClient(client.app)
+    assert sign_in(stranger, ADMIN_EMAIL, "not the password").status_code == 401
+
+    recorded = [(e.actor_kind, e.actor_label, e.action, e.target_type) for e in events(session)]
+    assert ("user", ADMIN_EMAIL, "user.created", "user") in recorded
+    assert ("user", ADMIN_EMAIL, "station.key_rotated", "station") in recorded
+    assert ("station", "Ọ̀yọ́ weighbridge", "vehicle.created", "vehicle") in recorded
+    assert ("anonymous", "not signed in", "sign_in.bad_credentials", "user") in recorded
+    assert ("anonymous", "not signed in", "sign_in.success", "user") in recorded  # the admin's own
+    created = next(e for e in events(session) if e.action == "user.created" and e.actor_kind == "user")
+    assert json.loads(created.details) == {
+        "email": "new.officer@example.org",
+        "role": "officer",
+        "active": True,
+    }
+    rotation = next(e for e in events(session) if e.action == "station.key_rotated")
+    assert json.loads(rotation.details)["key_hash"] == "(changed)"  # never the key or its hash
+    assert key not in rotation.details
+
+    audit_page = admin_web.get("/admin/audit")
+    assert audit_page.status_code == 200
+    assert "The record is intact." in audit_page.text
+    assert f"All {len(recorded)} events were checked" in audit_page.text
+    assert "station: key rotated" in audit_page.text
+    assert "Ọ̀yọ́ weighbridge" in audit_page.text
+
+
+def test_an_officer_cannot_read_the_audit_log(web: TestClient) -> None:
+    assert web.get("/admin/audit").status_code == 403
+
+
+def test_an_edited_event_is_shown_as_tampering_on_the_page_and_by_the_command(
+    admin_web: TestClient, engine: Engine, session: Session, database_url: str
+) -> None:
+    create_station(session, name="Agbara weighbridge")
+    create_station(session, name="Ikeja weighbridge")
+    target = next(e for e in events(session) if e.action == "station.created")
+    with engine.begin() as connection, immutability_lifted(connection):
+        connection.execute(
+            text("UPDATE audit_event SET details = :d WHERE id = :id"),
+            {"d": '{"name": "Nobody"}', "id": target.id},
+        )
+
+    page = admin_web.get("/admin/audit")
+    assert "The record was tampered with." in page.text
+    assert f"Event {target.id} was changed after it was recorded" in page.text
+    done = subprocess.run(
+        [BIN / "trikecert", "audit-verify"],
+        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert done.returncode == 1
+    assert f"event {target.id} was changed after it was recorded" in done.stdout
+
+
+@pytest.mark.parametrize("statement", ["UPDATE audit_event SET action = 'x'", "DELETE FROM audit_event"])
+def test_the_database_refuses_to_change_or_delete_an_event(
+    engine: Engine, session: Session, statement: str
+) -> None:
+    create_station(session, name="Agbara weighbridge")
+    with pytest.raises(DBAPIError, match="audit events are never changed or deleted"), engine.begin() as c:
+        c.execute(text(statement))
+    assert len(events(session)) == 1
+
+
+def test_the_command_says_an_untouched_log_is_intact(session: Session, database_url: str) -> None:
+    create_station(session, name="Agbara weighbridge")
+    done = subprocess.run(
+        [BIN / "trikecert", "audit-verify"],
+        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "the audit log is intact: 1 events checked"
