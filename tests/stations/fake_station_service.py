@@ -68,7 +68,7 @@ class FakeStationService:
                 with connection:
                     connection.settimeout(30)
                     act(connection, self)
-            except BaseException as error:  # noqa: BLE001 (reported to the test by close())
+            except BaseException as error:  # reported to the test by close()
                 self.errors.append(error)
 
     def send(self, connection: socket.socket, data: bytes) -> None:

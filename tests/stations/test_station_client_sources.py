@@ -162,3 +162,4 @@ def test_weigh_reads_a_live_serial_line_and_queues_the_weighing(tmp_path: Path) 
         "readings": {"front_kg": [108, 108.5], "left_rear_kg": [115, 115.5], "right_rear_kg": [135, 134.5]},
     }
     assert "queued 1 weighing" in out
+    assert "nothing is sent yet; send with: trikecert-station send" in out
