@@ -48,7 +48,17 @@ def cmd_queue(args: argparse.Namespace) -> int:
 
 def cmd_weigh(args: argparse.Namespace) -> int:
     """Read one weighing from the indicator (each wheel in turn) and queue it."""
-    lines = read_lines(Path(args.indicator), baud=args.baud, idle_timeout=args.idle_timeout)
+    wheels = "the front wheel, the left rear, the right rear" + (
+        ", then the whole vehicle" if args.overall else ""
+    )
+    lines = read_lines(
+        Path(args.indicator),
+        baud=args.baud,
+        idle_timeout=args.idle_timeout,
+        ready=lambda: print(
+            f"reading {args.indicator}: weigh {wheels} ({args.repeat} stable reading(s) each)", flush=True
+        ),
+    )
     readings = stable_readings(lines, continuous=args.continuous)
     weighing = weighing_from_readings(args.registration, readings, repeat=args.repeat, overall=args.overall)
     print(f"read {weighing.body['readings']} from {args.indicator}")
