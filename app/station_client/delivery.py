@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import random
 import time
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -34,6 +35,7 @@ class RunReport:
     rejected: list[tuple[Queued, Answer]] = field(default_factory=list)
     pending: list[Queued] = field(default_factory=list)
     stopped: str | None = None  # why weighings are left queued (unreachable, key refused)
+    failed_tries: Counter[str] = field(default_factory=Counter)  # tries without a final answer, by cause
 
 
 def deliver(
@@ -70,9 +72,15 @@ def deliver(
             if answer.verdict is Verdict.REJECTED:
                 outbox.mark_rejected(weighing.id, http_status=answer.status or 0, message=answer.message)
                 report.rejected.append((outbox.get(weighing.id), answer))
-                say(_line("rejected", weighing, f"{answer.status}: {answer.message}"))
+                say(
+                    _line(
+                        "rejected", weighing, f"{answer.status}: {answer.message}; {retry_hint(weighing.id)}"
+                    )
+                )
                 break
             outbox.note_attempt(weighing.id, answer.message)
+            if answer.verdict is Verdict.RETRY:
+                report.failed_tries[answer.cause or "other"] += 1
             if answer.verdict is Verdict.UNAUTHORIZED:
                 report.stopped = f"the service refused the station key ({answer.status}): {answer.message}"
                 report.pending = outbox.pending()
@@ -94,6 +102,11 @@ def deliver(
         last_answer = clock()
     report.pending = outbox.pending()
     return report
+
+
+def retry_hint(weighing_id: int) -> str:
+    """How to send a rejected weighing again once its cause is fixed."""
+    return f"once the cause is fixed, send it again with: trikecert-station retry {weighing_id}"
 
 
 def _line(what: str, weighing: Queued, detail: str) -> str:

@@ -113,8 +113,15 @@ def read_file(path: Path) -> list[Weighing]:
     if not path.is_file():
         raise SourceError(f"{path}: no such file")
     suffix = path.suffix.lower()
-    if suffix == ".csv":
-        return read_csv(path)
-    if suffix == ".json":
-        return read_json(path)
+    try:
+        if suffix == ".csv":
+            return read_csv(path)
+        if suffix == ".json":
+            return read_json(path)
+    except OSError as error:
+        raise SourceError(f"{path}: cannot read ({error.strerror or error})") from error
+    except UnicodeDecodeError as error:
+        raise SourceError(f"{path}: not UTF-8 text (byte {error.start}); save it as UTF-8") from error
+    except csv.Error as error:
+        raise SourceError(f"{path}: not a readable CSV ({error})") from error
     raise SourceError(f"{path}: give a .csv or .json file (or read an indicator with `weigh`)")

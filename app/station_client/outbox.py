@@ -141,3 +141,18 @@ class Outbox:
             "answered_at = ? WHERE id = ?",
             (http_status, message, _now(), weighing_id),
         )
+
+    def find(self, weighing_id: int) -> Queued | None:
+        """One weighing by its queue id, or None when the queue has no such weighing."""
+        found = self._select("id = ?", (weighing_id,))
+        return found[0] if found else None
+
+    def requeue(self, weighing_id: int) -> bool:
+        """Put a rejected weighing back in the queue to be sent again, under the same Idempotency-Key
+        (so a weighing the service did store once is answered with that inspection, never stored twice);
+        False when it was not rejected."""
+        cursor = self.connection.execute(
+            "UPDATE weighing SET state = 'pending', answered_at = NULL WHERE id = ? AND state = 'rejected'",
+            (weighing_id,),
+        )
+        return cursor.rowcount == 1

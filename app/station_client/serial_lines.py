@@ -7,7 +7,7 @@ import os
 import select
 import termios
 import tty
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from app.station_client.files import SourceError
@@ -44,8 +44,11 @@ def _device_lines(fd: int, idle_timeout: float) -> Iterator[str]:
         yield pending.decode("ascii", errors="replace")
 
 
-def read_lines(path: Path, *, baud: int = 9600, idle_timeout: float = 30.0) -> Iterator[str]:
-    """Every line from `path`: a regular file to its end, a serial device or pty until it falls silent."""
+def read_lines(
+    path: Path, *, baud: int = 9600, idle_timeout: float = 30.0, ready: Callable[[], None] | None = None
+) -> Iterator[str]:
+    """Every line from `path`: a regular file to its end, a serial device or pty until it falls silent;
+    `ready` is called once the device is open and configured (what arrived before is discarded)."""
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NOCTTY)
     except OSError as error:
@@ -53,6 +56,8 @@ def read_lines(path: Path, *, baud: int = 9600, idle_timeout: float = 30.0) -> I
     try:
         if os.isatty(fd):
             _configure(fd, baud)
+            if ready is not None:
+                ready()
             yield from _device_lines(fd, idle_timeout)
         else:
             with os.fdopen(os.dup(fd), encoding="ascii", errors="replace") as handle:

@@ -146,7 +146,9 @@ def test_weigh_reads_a_live_serial_line_and_queues_the_weighing(tmp_path: Path) 
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     try:
-        time.sleep(0.3)  # the client opens the port first, as at a real station
+        assert client.stdout is not None
+        # The client opens the port first, as at a real station (what came before it is discarded).
+        assert client.stdout.readline().startswith(f"reading {os.ttyname(slave)}: weigh the front wheel")
         for line in ["US,GS,+ 90.0kg", "ST,GS,+108.0kg", "ST,GS,+108.5kg", "US,GS,+114.0kg", "ST,GS,+115.0kg",
                      "ST,GS,+115.5kg", "ST,GS,+135.0kg", "ST,GS,+134.5kg"]:  # fmt: skip
             os.write(master, f"{line}\r\n".encode())
@@ -162,3 +164,4 @@ def test_weigh_reads_a_live_serial_line_and_queues_the_weighing(tmp_path: Path) 
         "readings": {"front_kg": [108, 108.5], "left_rear_kg": [115, 115.5], "right_rear_kg": [135, 134.5]},
     }
     assert "queued 1 weighing" in out
+    assert "nothing is sent yet; send with: trikecert-station send" in out
