@@ -12,10 +12,12 @@ from dataclasses import replace
 from datetime import date
 from decimal import Decimal, InvalidOperation
 
+from pydantic import ValidationError
+
 from app import __version__
 from app.audit.recorder import act_from_command_line
 from app.certificates.cli import add_certificate_commands
-from app.config import get_settings
+from app.config import get_settings, settings_problems
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
 from app.stations.details import StationDetails, details_of
@@ -26,8 +28,10 @@ def cmd_migrate(_args: argparse.Namespace) -> int:
     """Apply pending migrations."""
     from app.migrate import upgrade
 
-    upgrade(get_engine())
+    role = upgrade(get_engine())
     print(f"database at the newest revision: {get_engine().url.render_as_string(hide_password=True)}")
+    if role is not None:
+        print(f"app role {role}: may read and append to the records, never change them")
     return 0
 
 
@@ -289,6 +293,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script."""
     args = build_parser().parse_args(argv)
     act_from_command_line()
+    try:
+        get_settings()
+    except ValidationError as error:
+        for line in settings_problems(error):
+            print(f"trikecert: refusing to start: {line}", file=sys.stderr)
+        return 2
     try:
         code: int = args.handler(args)
     except ServiceError as error:

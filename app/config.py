@@ -5,11 +5,13 @@ from __future__ import annotations
 from decimal import Decimal
 from functools import lru_cache
 from typing import Literal
+from urllib.parse import urlsplit
 
-from pydantic import Field, SecretStr, model_validator
+from pydantic import Field, SecretStr, ValidationError, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 from sqlalchemy.engine import make_url
 
+from app.grants import check_role_name
 from app.stability import Rules
 
 PLACEHOLDER_SECRETS = {
@@ -31,6 +33,10 @@ class Settings(BaseSettings):
 
     environment: Literal["development", "test", "production"] = "development"
     database_url: str = "sqlite:///./trikecert.db"
+    # PostgreSQL: the role the service connects as. `trikecert migrate`, run as the tables' owner with
+    # these set, creates it if missing (with this password) and grants it only what the app does.
+    app_db_role: str | None = None
+    app_db_password: SecretStr | None = None
     occupant_mass_kg: Decimal = Field(default=Decimal("72"), ge=20, le=250)
     sum_tolerance: Decimal = Field(default=Decimal("0.01"), gt=0, le=Decimal("0.1"))
     max_body_bytes: int = 1024 * 1024
@@ -41,7 +47,8 @@ class Settings(BaseSettings):
     login_lockout_minutes: int = 15
     cookie_secure: bool = False
     certificate_validity_months: int = Field(default=12, ge=1, le=120)
-    base_url: str = "http://127.0.0.1:8000"  # public address printed on certificates and in QR codes
+    # The public address printed on certificates and in QR codes; production requires an https one.
+    base_url: str = "http://127.0.0.1:8000"
     issuing_authority: str = "Tricycle Lateral Stability Certification Authority"
     # The Ed25519 key that signs QR payloads: PEM, base64 of PEM, or base64 of the 32-byte seed.
     signing_key: SecretStr | None = None
@@ -60,21 +67,59 @@ class Settings(BaseSettings):
     db_pool_size: int = Field(default=16, ge=1, le=200)
     db_max_overflow: int = Field(default=4, ge=0, le=200)
 
+    @field_validator("app_db_role")
+    @classmethod
+    def plain_role_name(cls, role: str | None) -> str | None:
+        """The app role is a plain lower-case identifier (it is written into GRANT statements)."""
+        return None if role is None or role == "" else check_role_name(role)
+
     @model_validator(mode="after")
     def refuse_placeholder_secrets(self) -> Settings:
         """Outside development and tests, a database password must be a real secret."""
         if self.environment == "production":
             password = make_url(self.database_url).password
-            if password is not None and (len(password) < 12 or password.lower() in PLACEHOLDER_SECRETS):
+            if password is not None and _placeholder(password):
                 raise ValueError(
                     "TRIKECERT_DATABASE_URL: the database password is a placeholder or shorter than 12 "
                     "characters; set a real secret in production"
                 )
+            if self.app_db_password is not None and _placeholder(self.app_db_password.get_secret_value()):
+                raise ValueError(
+                    "TRIKECERT_APP_DB_PASSWORD: the app role's password is a placeholder or shorter than "
+                    "12 characters; set a real secret in production"
+                )
+        return self
+
+    @model_validator(mode="after")
+    def refuse_a_made_up_public_address(self) -> Settings:
+        """In production the address printed on every certificate is given, and it is https."""
+        if self.environment != "production":
+            return self
+        example = "set it to the service's public https address, e.g. https://trikecert.example.gov"
+        if "base_url" not in self.model_fields_set:
+            raise ValueError(f"TRIKECERT_BASE_URL is not set; {example} (it is printed in every QR code)")
+        parts = urlsplit(self.base_url)
+        if parts.scheme != "https" or not parts.hostname or parts.query or parts.fragment:
+            raise ValueError(f"TRIKECERT_BASE_URL {self.base_url!r} is not an https address; {example}")
         return self
 
     def rules(self) -> Rules:
         """The stability rules in force under these settings."""
         return Rules(occupant_mass_kg=self.occupant_mass_kg, sum_tolerance=self.sum_tolerance)
+
+
+def _placeholder(secret: str) -> bool:
+    return len(secret) < 12 or secret.lower() in PLACEHOLDER_SECRETS
+
+
+def settings_problems(error: ValidationError) -> list[str]:
+    """One plain line per refused setting, naming its TRIKECERT_ variable (for a start-up message)."""
+    lines = []
+    for problem in error.errors():
+        message = str(problem["msg"]).removeprefix("Value error, ")
+        field = ".".join(str(part) for part in problem["loc"])
+        lines.append(f"TRIKECERT_{field.upper()}: {message}" if field else message)
+    return lines
 
 
 @lru_cache

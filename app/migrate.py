@@ -11,6 +11,8 @@ from alembic.script import ScriptDirectory
 from sqlalchemy import Engine
 
 import migrations
+from app.config import get_settings
+from app.grants import grant_app_role
 
 
 def alembic_config(url: str) -> Config:
@@ -21,12 +23,19 @@ def alembic_config(url: str) -> Config:
     return config
 
 
-def upgrade(engine: Engine) -> None:
-    """Bring the database to the newest revision."""
+def upgrade(engine: Engine) -> str | None:
+    """Bring the database to the newest revision; grant TRIKECERT_APP_DB_ROLE its rights, in the same
+    transaction (PostgreSQL). Returns the role granted, if any."""
+    settings = get_settings()
+    role = settings.app_db_role if engine.dialect.name == "postgresql" else None
     config = alembic_config(engine.url.render_as_string(hide_password=False))
     with engine.begin() as connection:
         config.attributes["connection"] = connection
         command.upgrade(config, "head")
+        if role is not None:
+            password = settings.app_db_password
+            grant_app_role(connection, role, password=password.get_secret_value() if password else None)
+    return role
 
 
 def is_at_head(engine: Engine) -> bool:

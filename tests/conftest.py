@@ -1,22 +1,31 @@
 """Shared fixtures: one fresh database per run (SQLite file or a new PostgreSQL database),
-migrated once by Alembic, emptied after every test; an API client with a station key."""
+migrated once by Alembic, emptied after every test; an API client with a station key.
+
+On PostgreSQL the run migrates as the server URL's (owner) role and the app, with everything the
+tests do through `engine` and `session`, connects as an app role of its own, created for the run
+(app/grants.py): so every test shows the service works with only the rights the app role has.
+Clean-up and `owner_engine` use the owner."""
 
 from __future__ import annotations
 
 import os
+import secrets
 import uuid
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from datetime import datetime
 from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import Engine, create_engine, text
+from sqlalchemy import Engine, create_engine, text, update
 from sqlalchemy.engine import make_url
 from sqlalchemy.orm import Session
 
 from app import config, db
 from app.certificates.guard import immutability_lifted
-from app.db import Base
+from app.db import Base, make_engine
+from app.grants import grant_app_role
+from app.inspections.models import Inspection
 from app.main import create_app
 from app.migrate import upgrade
 from app.stations.service import create_station
@@ -34,27 +43,55 @@ def _fresh_postgres(server_url: str) -> tuple[str, str]:
     return make_url(server_url).set(database=name).render_as_string(hide_password=False), name
 
 
-def _drop_postgres(server_url: str, name: str) -> None:
+def _drop_postgres(server_url: str, name: str, role: str) -> None:
     admin = create_engine(server_url, isolation_level="AUTOCOMMIT")
     with admin.connect() as connection:
         connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+        connection.execute(text(f'DROP ROLE IF EXISTS "{role}"'))  # its grants went with the database
     admin.dispose()
 
 
+def _app_role_url(owner_url: str, role: str) -> str:
+    """Make the run's app role on the fresh database; return the URL the app connects with."""
+    password = secrets.token_urlsafe(18)
+    owner = make_engine(owner_url)
+    with owner.begin() as connection:
+        grant_app_role(connection, role, password=password)
+    owner.dispose()
+    return make_url(owner_url).set(username=role, password=password).render_as_string(hide_password=False)
+
+
 @pytest.fixture(scope="session")
-def database_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """The URL of this run's fresh database, migrated to head."""
+def owner_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """The URL of this run's fresh database as its owner, migrated to head."""
     server_url = os.environ.get(TEST_DATABASE_ENV, "")
-    created: str | None = None
     if server_url.startswith("postgresql"):
         url, created = _fresh_postgres(server_url)
     else:
-        url = f"sqlite:///{Path(tmp_path_factory.mktemp('db')) / 'trikecert-test.db'}"
-    previous = os.environ.get("TRIKECERT_DATABASE_URL")
-    os.environ["TRIKECERT_DATABASE_URL"] = url
+        url, created = f"sqlite:///{Path(tmp_path_factory.mktemp('db')) / 'trikecert-test.db'}", None
     os.environ["TRIKECERT_ENVIRONMENT"] = "test"
     _clear_caches()
-    upgrade(db.get_engine())
+    owner = make_engine(url)
+    upgrade(owner)
+    owner.dispose()
+    yield url
+    if created:
+        _drop_postgres(server_url, created, _run_role(created))
+
+
+def _run_role(database: str) -> str:
+    return database.replace("trikecert_test_", "trikecert_app_test_")
+
+
+@pytest.fixture(scope="session")
+def database_url(owner_url: str) -> Iterator[str]:
+    """The URL the app connects with: the app role's on PostgreSQL, the same file on SQLite."""
+    database = make_url(owner_url).database or ""
+    is_postgres = owner_url.startswith("postgresql")
+    url = _app_role_url(owner_url, _run_role(database)) if is_postgres else owner_url
+    previous = os.environ.get("TRIKECERT_DATABASE_URL")
+    os.environ["TRIKECERT_DATABASE_URL"] = url
+    _clear_caches()
     yield url
     db.get_engine().dispose()
     _clear_caches()
@@ -62,8 +99,21 @@ def database_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         os.environ.pop("TRIKECERT_DATABASE_URL", None)
     else:
         os.environ["TRIKECERT_DATABASE_URL"] = previous
-    if created:
-        _drop_postgres(server_url, created)
+
+
+@pytest.fixture(scope="session")
+def _postgres_owner_engine(owner_url: str) -> Iterator[Engine | None]:
+    engine = make_engine(owner_url) if owner_url.startswith("postgresql") else None
+    yield engine
+    if engine is not None:
+        engine.dispose()
+
+
+@pytest.fixture
+def owner_engine(database_url: str, _postgres_owner_engine: Engine | None) -> Engine:
+    """An engine as the tables' owner (PostgreSQL: a superuser), for clean-up and faked history;
+    on SQLite, which has no roles, the app's own engine."""
+    return _postgres_owner_engine if _postgres_owner_engine is not None else db.get_engine()
 
 
 def _clear_caches() -> None:
@@ -73,13 +123,29 @@ def _clear_caches() -> None:
 
 
 @pytest.fixture
-def engine(database_url: str) -> Iterator[Engine]:
-    """The run's engine; every table is emptied after the test."""
+def engine(database_url: str, owner_engine: Engine) -> Iterator[Engine]:
+    """The app's engine; every table is emptied by the owner after the test."""
     engine = db.get_engine()
     yield engine
-    with engine.begin() as connection, immutability_lifted(connection):
+    with owner_engine.begin() as connection, immutability_lifted(connection):
         for table in reversed(Base.metadata.sorted_tables):
             connection.execute(table.delete())
+
+
+@pytest.fixture
+def backdate(owner_engine: Engine) -> Callable[..., None]:
+    """Rewrite a stored inspection's time (and other columns) as the owner: a test's faked history.
+
+    The app cannot do this: inspections are append-only for its role and behind triggers.
+    """
+
+    def rewrite(inspection_id: int, at: datetime, **columns: object) -> None:
+        with owner_engine.begin() as connection, immutability_lifted(connection):
+            connection.execute(
+                update(Inspection).where(Inspection.id == inspection_id).values(created_at=at, **columns)
+            )
+
+    return rewrite
 
 
 @pytest.fixture

@@ -1,9 +1,11 @@
 """Certified records are never changed or deleted: the code refuses it here, the database by triggers.
 
 The ORM refuses, on every backend, a flush that would update or delete a certificate, a
-revocation or an audit entry, and any bulk UPDATE or DELETE aimed at them; a signing key may only
-be retired. The migration adds triggers that refuse the same through raw SQL (PostgreSQL and
-SQLite). `immutability_lifted` exists for the test fixtures that empty every table.
+revocation, an audit entry, an inspection, a reading or a loading case, and any bulk UPDATE or
+DELETE aimed at them; a signing key may only be retired, and a retired key stays retired. The
+migrations add triggers that refuse the same through raw SQL (PostgreSQL and SQLite), and on
+PostgreSQL the app's role has no UPDATE or DELETE on those tables at all (app/grants.py).
+`immutability_lifted` exists for the test fixtures that empty every table or fake a record's age.
 """
 
 from __future__ import annotations
@@ -17,8 +19,11 @@ from sqlalchemy.orm import ORMExecuteState, Session, UOWTransaction
 
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, SigningKey
 from app.errors import Conflict
+from app.inspections.models import Inspection, LoadingCaseRow, Reading
 
-FROZEN: tuple[type[Any], ...] = (Certificate, CertificateRevocation, CertificateAudit)
+CERTIFIED: tuple[type[Any], ...] = (Certificate, CertificateRevocation, CertificateAudit)
+MEASURED: tuple[type[Any], ...] = (Inspection, Reading, LoadingCaseRow)
+FROZEN = CERTIFIED + MEASURED
 SIGNING_KEY_MUTABLE = frozenset({"active", "retired_at"})
 TRIGGER_PREFIX = "immutable_"
 
@@ -27,12 +32,30 @@ class ImmutableRecord(Conflict):
     """An attempt to change or delete a certified record (409)."""
 
 
-def _refuse(what: str, verb: str) -> ImmutableRecord:
+def _refuse(target: type[Any] | None, verb: str) -> ImmutableRecord:
+    what = target.__name__ if target is not None else "certificate"
+    if target in MEASURED:
+        return ImmutableRecord(
+            f"{what} records are never {verb}; they are kept as measured, weigh the vehicle again instead",
+            field="inspection",
+            rule="immutable",
+        )
     return ImmutableRecord(
         f"{what} records are never {verb}; revoke the certificate or issue a new one instead",
         field="certificate",
         rule="immutable",
     )
+
+
+def _retired_key_revived(key: SigningKey) -> bool:
+    """True when a flush would switch a retired key back on or move its retirement time."""
+    state = inspect(key)
+    active, retired_at = state.attrs.active.history, state.attrs.retired_at.history
+    was_active = active.deleted[0] if active.deleted else key.active
+    was_retired_at = retired_at.deleted[0] if retired_at.deleted else key.retired_at
+    if key.active and (not was_active or was_retired_at is not None or key.retired_at is not None):
+        return True
+    return was_retired_at is not None and key.retired_at != was_retired_at
 
 
 def changed_columns(instance: object) -> set[str]:
@@ -45,12 +68,14 @@ def changed_columns(instance: object) -> set[str]:
 def _refuse_changes(session: Session, _flush: UOWTransaction, _instances: object) -> None:
     for instance in session.deleted:
         if isinstance(instance, (*FROZEN, SigningKey)):
-            raise _refuse(type(instance).__name__, "deleted")
+            raise _refuse(type(instance), "deleted")
     for instance in session.dirty:
         if isinstance(instance, FROZEN) and changed_columns(instance):
-            raise _refuse(type(instance).__name__, "changed")
+            raise _refuse(type(instance), "changed")
         if isinstance(instance, SigningKey) and changed_columns(instance) - SIGNING_KEY_MUTABLE:
-            raise _refuse("SigningKey", "changed (only retired)")
+            raise _refuse(SigningKey, "changed (only retired)")
+        if isinstance(instance, SigningKey) and _retired_key_revived(instance):
+            raise _refuse(SigningKey, "switched back on once retired")
 
 
 @event.listens_for(Session, "do_orm_execute")
@@ -60,14 +85,13 @@ def _refuse_bulk(state: ORMExecuteState) -> None:
     mapper = state.bind_mapper
     target = mapper.class_ if mapper is not None else None
     if target in FROZEN or (state.is_delete and target is SigningKey):
-        raise _refuse(
-            target.__name__ if target else "certificate", "deleted" if state.is_delete else "changed"
-        )
+        raise _refuse(target, "deleted" if state.is_delete else "changed")
 
 
 @contextmanager
 def immutability_lifted(connection: Connection) -> Iterator[None]:
-    """Let this transaction delete certified rows (test clean-up only; superuser on PostgreSQL)."""
+    """Let this transaction change or delete frozen rows (test fixtures only; on PostgreSQL the
+    connection must be a superuser's: the app's role cannot)."""
     dialect = connection.dialect.name
     if dialect == "postgresql":
         connection.execute(text("SET LOCAL session_replication_role = replica"))

@@ -41,9 +41,10 @@ class SigningKey(Base):
     # None when the private key is given by configuration (TRIKECERT_SIGNING_KEY) and never stored.
     private_pem: Mapped[str | None] = mapped_column(Text)
     source: Mapped[str] = mapped_column(String(16))
-    active: Mapped[bool] = mapped_column(Boolean, default=True)
+    # active_history: the stored values are loaded before a change, so guard.py sees a revival.
+    active: Mapped[bool] = mapped_column(Boolean, default=True, active_history=True)
     created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
-    retired_at: Mapped[datetime | None] = mapped_column(UTCDateTime())
+    retired_at: Mapped[datetime | None] = mapped_column(UTCDateTime(), active_history=True)
 
 
 class CertificateSequence(Base):

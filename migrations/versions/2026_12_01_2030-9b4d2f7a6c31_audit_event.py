@@ -22,7 +22,7 @@ depends_on: str | Sequence[str] | None = None
 POSTGRES_TRIGGERS = """
 CREATE FUNCTION audit_event_refuse_change() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-    RAISE EXCEPTION 'audit events are never changed or deleted'
+    RAISE EXCEPTION 'trikecert: audit events are never changed or deleted'
         USING ERRCODE = 'integrity_constraint_violation';
 END $$;
 CREATE TRIGGER immutable_audit_event_update BEFORE UPDATE OR DELETE ON audit_event
@@ -32,9 +32,9 @@ CREATE TRIGGER immutable_audit_event_truncate BEFORE TRUNCATE ON audit_event
 """
 SQLITE_TRIGGERS = [
     """CREATE TRIGGER immutable_audit_event_update BEFORE UPDATE ON audit_event
-    BEGIN SELECT RAISE(ABORT, 'audit events are never changed or deleted'); END""",
+    BEGIN SELECT RAISE(ABORT, 'trikecert: audit events are never changed or deleted'); END""",
     """CREATE TRIGGER immutable_audit_event_delete BEFORE DELETE ON audit_event
-    BEGIN SELECT RAISE(ABORT, 'audit events are never changed or deleted'); END""",
+    BEGIN SELECT RAISE(ABORT, 'trikecert: audit events are never changed or deleted'); END""",
 ]
 
 

@@ -4,16 +4,17 @@ overrides. (The study's Table 4 itself is in test_study_vehicle.py.)"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from datetime import UTC, datetime
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import func, select, update
+from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
-from app.inspections.models import Inspection, Reading
+from app.inspections.models import Reading
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"
@@ -183,7 +184,7 @@ def test_a_wheelbase_given_with_the_readings_is_used_for_that_inspection(study: 
 
 
 @pytest.fixture
-def listed(study: TestClient, session: Session) -> dict[str, int]:
+def listed(study: TestClient, backdate: Callable[..., None]) -> dict[str, int]:
     """Four inspections at fixed times: the study's vehicle thrice (NC), the front-heavy one once (C)."""
     assert study.post(VEHICLES, json=FRONT_HEAVY).status_code == 201
     study_weighing = {"registration_number": "BDG 252 QH", "readings": STUDY_READINGS}
@@ -196,8 +197,7 @@ def listed(study: TestClient, session: Session) -> dict[str, int]:
     }
     for month, inspection_id in enumerate(ids.values(), start=1):
         at = datetime(2026, month, 1, 8, 0, tzinfo=UTC)
-        session.execute(update(Inspection).where(Inspection.id == inspection_id).values(created_at=at))
-    session.commit()
+        backdate(inspection_id, at)
     return ids
 
 

@@ -91,18 +91,21 @@ def test_the_orm_refuses_to_change_a_revocation_or_an_audit_entry(
         "DELETE FROM signing_key",
     ],
 )
-def test_the_database_refuses_raw_sql_changes(revoked: dict[str, Any], engine: Engine, sql: str) -> None:
-    assert "trikecert" in refused_by_database(engine, sql)
-    with engine.connect() as connection:
+def test_the_database_refuses_raw_sql_changes(
+    revoked: dict[str, Any], owner_engine: Engine, sql: str
+) -> None:
+    # As the owner, whom no grant stops: the triggers refuse (the app role is refused before them).
+    assert "trikecert" in refused_by_database(owner_engine, sql)
+    with owner_engine.connect() as connection:
         row = connection.execute(text("SELECT kind, registration_number FROM certificate")).one()
         assert tuple(row) == ("refusal", "BDG 252 QH")
         assert connection.execute(text("SELECT count(*) FROM certificate_audit")).scalar_one() == 2
 
 
-def test_the_database_refuses_truncate_on_postgresql(revoked: dict[str, Any], engine: Engine) -> None:
-    if engine.dialect.name != "postgresql":
+def test_the_database_refuses_truncate_on_postgresql(revoked: dict[str, Any], owner_engine: Engine) -> None:
+    if owner_engine.dialect.name != "postgresql":
         pytest.skip("TRUNCATE exists only on PostgreSQL")
-    assert "trikecert" in refused_by_database(engine, "TRUNCATE certificate CASCADE")
+    assert "trikecert" in refused_by_database(owner_engine, "TRUNCATE certificate CASCADE")
 
 
 def test_a_signing_key_may_be_retired_but_nothing_else(revoked: dict[str, Any], session: Session) -> None:

@@ -1,5 +1,6 @@
 """The compose file's app, started exactly as it says (command and environment), against the local
-PostgreSQL in place of the `db` service, answers /readyz; its migration service migrates first."""
+PostgreSQL in place of the `db` service, answers /readyz; its migration service migrates first, as
+the owner, and sets up the app's own role, which can append to the records but never rewrite them."""
 
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ import pytest
 import yaml
 from sqlalchemy import create_engine, text
 from sqlalchemy.engine import make_url
+from sqlalchemy.exc import DBAPIError
 
 ROOT = Path(__file__).resolve().parents[2]
 SERVER_URL = os.environ.get("TRIKECERT_TEST_DATABASE_URL", "")
@@ -59,10 +61,14 @@ def compose_env() -> Iterator[dict[str, str]]:
     with admin.connect() as connection:
         if connection.scalar(text("SELECT 1 FROM pg_roles WHERE rolname = 'trikecert'")) is None:
             connection.execute(text("CREATE ROLE trikecert LOGIN"))
+        # The postgres image's POSTGRES_USER is a superuser: it may create the app's role.
+        connection.execute(text("ALTER ROLE trikecert SUPERUSER"))
         connection.execute(text(f'CREATE DATABASE "{name}" OWNER trikecert'))
     server = make_url(SERVER_URL)
     yield {
         "POSTGRES_PASSWORD": password,
+        "TRIKECERT_APP_DB_PASSWORD": secrets.token_urlsafe(16),
+        "TRIKECERT_BASE_URL": "https://trikecert.example.gov",
         "TRIKECERT_WORKERS": "2",
         "_DB": name,
         "_HOST": server.host or "127.0.0.1",
@@ -91,6 +97,36 @@ def command_of(name: str, env: dict[str, str]) -> list[str]:
     return [interpolate(part, env) for part in service(name)["command"]]
 
 
+def test_the_app_and_the_migration_connect_as_two_roles() -> None:
+    owner = make_url(service("migrate")["environment"]["TRIKECERT_DATABASE_URL"]).username
+    app = make_url(service("app")["environment"]["TRIKECERT_DATABASE_URL"]).username
+    assert owner == service("db")["environment"]["POSTGRES_USER"]
+    assert app == service("migrate")["environment"]["TRIKECERT_APP_DB_ROLE"] != owner
+    for name in ("migrate", "app"):
+        assert service(name)["environment"]["TRIKECERT_BASE_URL"].startswith("${TRIKECERT_BASE_URL:?")
+
+
+def assert_the_app_role_cannot_rewrite_records(env: dict[str, str]) -> None:
+    """As the app's URL says: reading works, rewriting an inspection or a certificate does not."""
+    engine = create_engine(environment_of("app", env)["TRIKECERT_DATABASE_URL"])
+    try:
+        for sql in (
+            "UPDATE inspection SET front_kg = 0",
+            "DELETE FROM certificate",
+            "TRUNCATE loading_case",
+            "ALTER TABLE certificate DISABLE TRIGGER ALL",
+        ):
+            with (
+                engine.connect() as connection,
+                pytest.raises(DBAPIError, match=r"permission denied|must be owner"),
+            ):
+                connection.execute(text(sql))
+        with engine.connect() as connection:
+            assert connection.scalar(text("SELECT count(*) FROM inspection")) == 0
+    finally:
+        engine.dispose()
+
+
 def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, str]) -> None:
     migrate = subprocess.run(
         command_of("migrate", compose_env),
@@ -102,6 +138,8 @@ def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, s
         check=False,
     )
     assert migrate.returncode == 0, migrate.stderr
+    assert "app role trikecert_app" in migrate.stdout
+    assert_the_app_role_cannot_rewrite_records(compose_env)
 
     port = free_port()
     command = [part.replace("--port 8000", f"--port {port}") for part in command_of("app", compose_env)]

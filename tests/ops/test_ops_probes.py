@@ -30,8 +30,8 @@ def test_readyz_is_ready_when_the_database_is_migrated(client: TestClient) -> No
     assert response.json() == {"status": "ok"}
 
 
-def test_readyz_says_503_when_migrations_are_behind(client: TestClient, engine: Engine) -> None:
-    with engine.begin() as connection:
+def test_readyz_says_503_when_migrations_are_behind(client: TestClient, owner_engine: Engine) -> None:
+    with owner_engine.begin() as connection:  # the revision is the owner's to set, not the app's
         (head,) = connection.execute(text("SELECT version_num FROM alembic_version")).one()
         connection.execute(text("UPDATE alembic_version SET version_num = 'behind'"))
     try:
@@ -39,7 +39,7 @@ def test_readyz_says_503_when_migrations_are_behind(client: TestClient, engine: 
         assert response.status_code == 503
         assert "migrate" in response.json()["reason"]
     finally:
-        with engine.begin() as connection:
+        with owner_engine.begin() as connection:
             connection.execute(text("UPDATE alembic_version SET version_num = :head"), {"head": head})
 
 

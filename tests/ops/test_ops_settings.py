@@ -7,6 +7,8 @@ from pydantic import ValidationError
 
 from app.config import Settings
 
+PUBLIC = "https://trikecert.example.gov"
+
 
 @pytest.mark.parametrize(
     "url",
@@ -20,11 +22,11 @@ from app.config import Settings
 )
 def test_production_refuses_a_placeholder_database_password(url: str) -> None:
     with pytest.raises(ValidationError, match="TRIKECERT_DATABASE_URL"):
-        Settings(environment="production", database_url=url)
+        Settings(environment="production", database_url=url, base_url=PUBLIC)
 
 
 def test_production_accepts_a_real_secret_and_development_accepts_anything() -> None:
     real = "postgresql+psycopg://trikecert:Xq8-v2Lr0pZ7w1Tn@db:5432/trikecert"
-    assert Settings(environment="production", database_url=real).database_url == real
+    assert Settings(environment="production", database_url=real, base_url=PUBLIC).database_url == real
     weak = "postgresql+psycopg://trikecert:changeme@db:5432/trikecert"
     assert Settings(environment="development", database_url=weak).database_url == weak

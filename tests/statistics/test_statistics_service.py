@@ -3,15 +3,14 @@ filter holds, certificates are counted when issued and revoked."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from datetime import UTC, date, datetime
 from decimal import Decimal
 from zoneinfo import ZoneInfo
 
 import pytest
-from sqlalchemy import update
 from sqlalchemy.orm import Session
 
-from app.inspections.models import Inspection
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import Rules, WheelReadings
 from app.stations.models import Station
@@ -38,15 +37,23 @@ def vehicle(session: Session) -> str:
     return "BDG 252 QH"
 
 
-def inspect(session: Session, *, at: datetime, compliant: bool, station: Station | None = None) -> None:
+Inspect = Callable[..., None]
+
+
+@pytest.fixture
+def inspect(backdate: Callable[..., None]) -> Inspect:
     """Store an inspection of the study's vehicle as if made at `at` (front 250 kg complies, 108 fails)."""
-    front = Decimal("250") if compliant else Decimal("108")
-    readings = WheelReadings((front,), (Decimal("115"),), (Decimal("135"),))
-    request = InspectionRequest(registration_number="BDG 252 QH", readings=readings)
-    stored = record_inspection(session, request=request, rules=Rules(), station=station)
-    assert stored.compliant is compliant
-    session.execute(update(Inspection).where(Inspection.id == stored.id).values(created_at=at))
-    session.commit()
+
+    def store(session: Session, *, at: datetime, compliant: bool, station: Station | None = None) -> None:
+        front = Decimal("250") if compliant else Decimal("108")
+        readings = WheelReadings((front,), (Decimal("115"),), (Decimal("135"),))
+        request = InspectionRequest(registration_number="BDG 252 QH", readings=readings)
+        stored = record_inspection(session, request=request, rules=Rules(), station=station)
+        assert stored.compliant is compliant
+        session.commit()
+        backdate(stored.id, at)
+
+    return store
 
 
 def utc(year: int, month: int, day: int, hour: int, minute: int) -> datetime:
@@ -54,7 +61,9 @@ def utc(year: int, month: int, day: int, hour: int, minute: int) -> datetime:
 
 
 @pytest.mark.usefixtures("vehicle")
-def test_an_inspection_late_in_the_utc_day_counts_on_the_next_local_day(session: Session) -> None:
+def test_an_inspection_late_in_the_utc_day_counts_on_the_next_local_day(
+    session: Session, inspect: Inspect
+) -> None:
     inspect(session, at=utc(2026, 11, 9, 22, 59), compliant=True)  # 23:59 in Lagos, 9 November
     inspect(session, at=utc(2026, 11, 9, 23, 0), compliant=False)  # 00:00 in Lagos, 10 November
     inspect(session, at=utc(2026, 11, 10, 12, 0), compliant=False)
@@ -82,7 +91,7 @@ def test_an_inspection_late_in_the_utc_day_counts_on_the_next_local_day(session:
 )
 @pytest.mark.usefixtures("vehicle")
 def test_the_local_day_follows_the_zone_with_its_daylight_saving_and_half_hours(
-    session: Session, zone: ZoneInfo, at: datetime, local_day: date
+    session: Session, inspect: Inspect, zone: ZoneInfo, at: datetime, local_day: date
 ) -> None:
     inspect(session, at=at, compliant=True)
 
@@ -92,7 +101,7 @@ def test_the_local_day_follows_the_zone_with_its_daylight_saving_and_half_hours(
 
 
 @pytest.mark.usefixtures("vehicle")
-def test_outside_the_period_nothing_counts(session: Session) -> None:
+def test_outside_the_period_nothing_counts(session: Session, inspect: Inspect) -> None:
     inspect(session, at=utc(2026, 11, 7, 22, 59), compliant=True)  # 7 November in Lagos
     inspect(session, at=utc(2026, 11, 11, 23, 0), compliant=True)  # 12 November in Lagos
 
@@ -103,7 +112,7 @@ def test_outside_the_period_nothing_counts(session: Session) -> None:
 
 
 @pytest.mark.usefixtures("vehicle")
-def test_counts_per_station_busiest_first_and_the_station_filter(session: Session) -> None:
+def test_counts_per_station_busiest_first_and_the_station_filter(session: Session, inspect: Inspect) -> None:
     agbara, _ = create_station(session, name="Agbara weighbridge")
     ikeja, _ = create_station(session, name="Ikeja weighbridge")
     noon = utc(2026, 11, 10, 12, 0)

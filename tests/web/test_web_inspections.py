@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from datetime import timedelta
 
 import pytest
@@ -172,30 +173,31 @@ def record(web: TestClient, overall: str = "359") -> str:
 
 
 def test_the_home_page_counts_todays_inspections(
-    web: TestClient, study_vehicle: Vehicle, session: Session
+    web: TestClient, study_vehicle: Vehicle, session: Session, backdate: Callable[..., None]
 ) -> None:
     record(web)
     record(web)
     old = session.scalars(select(Inspection)).first()
     assert old is not None
-    old.created_at = utcnow() - timedelta(days=3)
-    session.commit()
+    backdate(old.id, utcnow() - timedelta(days=3))
     html = web.get("/").text
     counts = re.findall(r'<span class="count">(\d+)</span> ([a-z ]+)</li>', html)
     assert counts == [("1", "inspections"), ("0", "compliant"), ("1", "not compliant")]
 
 
 def test_the_list_filters_by_verdict_station_and_dates_and_pages(
-    web: TestClient, study_vehicle: Vehicle, session: Session, monkeypatch: pytest.MonkeyPatch
+    web: TestClient,
+    study_vehicle: Vehicle,
+    session: Session,
+    monkeypatch: pytest.MonkeyPatch,
+    backdate: Callable[..., None],
 ) -> None:
     station, _key = create_station(session, name="Agbara weighbridge")
     for _ in range(3):
         record(web)
     first = session.scalars(select(Inspection).order_by(Inspection.id)).first()
     assert first is not None
-    first.station_id = station.id
-    first.created_at = utcnow() - timedelta(days=10)
-    session.commit()
+    backdate(first.id, utcnow() - timedelta(days=10), station_id=station.id)
 
     monkeypatch.setenv("TRIKECERT_PAGE_SIZE", "2")
     config.get_settings.cache_clear()

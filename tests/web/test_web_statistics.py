@@ -6,10 +6,11 @@ from __future__ import annotations
 import csv
 import io
 import re
+from collections.abc import Callable
 from datetime import timedelta
 
 from fastapi.testclient import TestClient
-from sqlalchemy import select, update
+from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
@@ -36,15 +37,12 @@ def totals(html: str) -> list[tuple[str, str]]:
 
 
 def test_the_page_counts_the_period_per_station_and_per_day(
-    web: TestClient, study_vehicle: Vehicle, session: Session
+    web: TestClient, study_vehicle: Vehicle, session: Session, backdate: Callable[..., None]
 ) -> None:
     compliant = record(web, front="250")
     record(web)
     old = record(web)
-    session.execute(
-        update(Inspection).where(Inspection.id == old).values(created_at=utcnow() - timedelta(days=40))
-    )
-    session.commit()
+    backdate(old, utcnow() - timedelta(days=40))
     issued = issue_certificate(
         session, inspection_id=compliant, actor=Actor.of_cli(), settings=get_settings()
     )

@@ -1,0 +1,141 @@
+"""The app's own PostgreSQL role: created if missing and granted exactly what the service does.
+
+Migrations run as the owner of the tables; the service connects as this role, which owns nothing,
+is no superuser, may run no DDL, and reads and appends to the records the law relies on without
+ever updating, deleting or truncating them. Being no owner, it cannot disable their triggers either.
+`grant_app_role` runs in the migration's transaction (`trikecert migrate` with TRIKECERT_APP_DB_ROLE).
+"""
+
+from __future__ import annotations
+
+import re
+
+from sqlalchemy import Connection, text
+
+from app.errors import Conflict
+
+APPEND_ONLY = "SELECT, INSERT"
+EDITABLE = "SELECT, INSERT, UPDATE"
+DISPOSABLE = "SELECT, INSERT, UPDATE, DELETE"
+
+# Every table and what the service does to it; a table missing here stops `trikecert migrate`.
+PRIVILEGES: dict[str, str] = {
+    "inspection": APPEND_ONLY,
+    "reading": APPEND_ONLY,
+    "loading_case": APPEND_ONLY,
+    "certificate": APPEND_ONLY,
+    "certificate_revocation": APPEND_ONLY,
+    "certificate_audit": APPEND_ONLY,
+    "signing_key": "SELECT, INSERT, UPDATE (active, retired_at)",  # retiring; the trigger keeps it so
+    "certificate_sequence": EDITABLE,  # the yearly counter's upsert
+    "vehicle": EDITABLE,
+    "seat": DISPOSABLE,  # a vehicle's seats are replaced when it is edited
+    "station": EDITABLE,
+    "station_rate_window": EDITABLE,  # the per-window counter's upsert
+    "user_account": EDITABLE,
+    "user_session": DISPOSABLE,  # sign-out and expiry
+    "login_attempt": EDITABLE,
+    "login_throttle": EDITABLE,  # the per-key count of password checks, bumped by one upsert
+    "audit_event": APPEND_ONLY,
+    "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
+    "form_submission": EDITABLE,
+    "alembic_version": "SELECT",  # /readyz checks the revision
+}
+ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")
+
+# Role name and password reach the server as settings of this transaction, never inside SQL text,
+# so neither needs quoting here nor shows in a statement log.
+_CREATE_ROLE = """
+DO $$ BEGIN
+    EXECUTE format('CREATE ROLE %I LOGIN NOSUPERUSER NOCREATEDB NOCREATEROLE NOREPLICATION NOBYPASSRLS',
+                   current_setting('trikecert.app_role'));
+EXCEPTION WHEN duplicate_object OR unique_violation THEN NULL;  -- made before, or by a run beside us
+END $$
+"""
+_ALTER_ROLE_LOGIN = """
+DO $$ BEGIN
+    EXECUTE format('ALTER ROLE %I LOGIN PASSWORD %L',
+                   current_setting('trikecert.app_role'), current_setting('trikecert.app_password'));
+END $$
+"""
+
+
+class AppRoleRefused(Conflict):
+    """The app role asked for would be as powerful as the owner (superuser, owner, member of it)."""
+
+
+def check_role_name(role: str) -> str:
+    """The role name if it is a plain lower-case PostgreSQL identifier, else ValueError."""
+    if not ROLE_NAME.fullmatch(role):
+        raise ValueError(
+            f"the app's database role must be lower-case letters, digits and _ (at most 63), not {role!r}"
+        )
+    return role
+
+
+def _refuse(message: str) -> AppRoleRefused:
+    return AppRoleRefused(f"TRIKECERT_APP_DB_ROLE: {message}", field="app_db_role", rule="least_privilege")
+
+
+def _check_not_powerful(connection: Connection, role: str) -> None:
+    facts = connection.execute(
+        text(
+            "SELECT current_user = :role, r.rolsuper OR r.rolbypassrls, "
+            "pg_has_role(:role, current_user, 'MEMBER'), "
+            "EXISTS (SELECT 1 FROM pg_tables WHERE schemaname = current_schema() AND tableowner = :role) "
+            "FROM pg_roles r WHERE r.rolname = :role"
+        ),
+        {"role": role},
+    ).one()
+    is_self, superuser, member_of_owner, owns_tables = facts
+    if is_self:
+        raise _refuse(f"{role} is the role running the migrations; the app needs a role of its own")
+    if superuser:
+        raise _refuse(f"{role} is a superuser (or bypasses row security); give the app an ordinary role")
+    if member_of_owner or owns_tables:
+        raise _refuse(f"{role} owns the tables or is a member of their owner; give the app a role of its own")
+
+
+def _grant_tables(connection: Connection, role: str) -> None:
+    tables = set(
+        connection.scalars(text("SELECT tablename FROM pg_tables WHERE schemaname = current_schema()"))
+    )
+    unknown = sorted(tables - PRIVILEGES.keys())
+    if unknown:
+        raise _refuse(f"no grant decided for table(s) {', '.join(unknown)}: add them to app/grants.py")
+    quoted = connection.dialect.identifier_preparer.quote
+    schema = quoted(connection.scalar(text("SELECT current_schema()")))
+    grantee = quoted(role)
+    connection.execute(text(f"REVOKE ALL ON ALL TABLES IN SCHEMA {schema} FROM {grantee}"))
+    connection.execute(text(f"REVOKE ALL ON ALL SEQUENCES IN SCHEMA {schema} FROM {grantee}"))
+    connection.execute(text(f"REVOKE CREATE ON SCHEMA {schema} FROM {grantee}"))
+    connection.execute(text(f"GRANT USAGE ON SCHEMA {schema} TO {grantee}"))
+    for table in sorted(tables):
+        connection.execute(text(f"GRANT {PRIVILEGES[table]} ON {quoted(table)} TO {grantee}"))
+    connection.execute(text(f"GRANT USAGE ON ALL SEQUENCES IN SCHEMA {schema} TO {grantee}"))
+    may_create = text("SELECT has_schema_privilege(:role, current_schema(), 'CREATE')")
+    if connection.scalar(may_create, {"role": role}):
+        # Before PostgreSQL 15 every role may create in the public schema.
+        connection.execute(text(f"REVOKE CREATE ON SCHEMA {schema} FROM PUBLIC"))
+
+
+def grant_app_role(connection: Connection, role: str, *, password: str | None = None) -> None:
+    """Create the app's role if missing (with this password, if given) and grant it what the app does."""
+    check_role_name(role)
+    settings = {"role": role, "password": password or ""}
+    connection.execute(
+        text(
+            "SELECT set_config('trikecert.app_role', :role, true), "
+            "set_config('trikecert.app_password', :password, true)"
+        ),
+        settings,
+    )
+    connection.execute(text(_CREATE_ROLE))
+    if password:
+        connection.execute(text(_ALTER_ROLE_LOGIN))
+    connection.execute(text("SELECT set_config('trikecert.app_password', '', true)"))
+    _check_not_powerful(connection, role)
+    quoted = connection.dialect.identifier_preparer.quote
+    database = quoted(connection.scalar(text("SELECT current_database()")))
+    connection.execute(text(f"GRANT CONNECT ON DATABASE {database} TO {quoted(role)}"))
+    _grant_tables(connection, role)
