@@ -36,7 +36,7 @@ def _free_port() -> int:
 
 
 @pytest.fixture
-def served(engine: Engine, database_url: str) -> Iterator[str]:
+def served(engine: Engine, database_url: str, tmp_path: Path) -> Iterator[str]:
     """An officer account made with `trikecert create-user`, then `trikecert serve --workers 2`."""
     env = dict(os.environ, TRIKECERT_DATABASE_URL=database_url)
     subprocess.run(
@@ -48,26 +48,35 @@ def served(engine: Engine, database_url: str) -> Iterator[str]:
         check=True,
     )
     port = _free_port()
-    server = subprocess.Popen(
-        [BIN / "trikecert", "serve", "--no-migrate", "--port", str(port), "--workers", "2"],
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
+    log = tmp_path / "server.log"
+    with log.open("w") as output:
+        server = subprocess.Popen(
+            [BIN / "trikecert", "serve", "--no-migrate", "--port", str(port), "--workers", "2"],
+            env=env,
+            stdout=output,
+            stderr=subprocess.STDOUT,
+        )
     base = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            try:
-                if httpx.get(f"{base}/readyz", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.2)
+        _wait_until_ready(base, server, log)
         yield base
     finally:
         server.terminate()
         server.wait(timeout=30)
+
+
+def _wait_until_ready(base: str, server: subprocess.Popen[bytes], log: Path) -> None:
+    """Both workers answering, or fail with what the server said."""
+    deadline, ready = time.monotonic() + 120, 0
+    while time.monotonic() < deadline and server.poll() is None:
+        try:
+            ready = ready + 1 if httpx.get(f"{base}/readyz", timeout=5).status_code == 200 else 0
+        except httpx.HTTPError:
+            ready = 0
+        if ready >= 4:  # several answers in a row: past the start, not a worker that is still starting
+            return
+        time.sleep(0.2)
+    pytest.fail(f"the server did not become ready:\n{log.read_text()}")
 
 
 def _login_form(base: str) -> tuple[dict[str, str], str]:
