@@ -171,6 +171,12 @@ def cmd_create_user(args: argparse.Namespace) -> int:
     with get_sessionmaker()() as session:
         user = create_user(session, email=args.email, password=password, role=args.role)
     print(f"user {user.id} {user.email} ({user.role}) created")
+    if get_settings().mfa_mode() == "required":
+        print("at the first sign-in they set up a second factor: an authenticator app on their phone")
+    else:
+        print(
+            "second factor optional here (TRIKECERT_MFA=optional): they may set one up at /account/two-factor"
+        )
     return 0
 
 

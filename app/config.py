@@ -45,6 +45,9 @@ class Settings(BaseSettings):
     session_absolute_hours: int = 12
     login_max_failures: int = 5
     login_lockout_minutes: int = 15
+    # The second factor at sign-in: "required" of every account, or "optional" (used where enrolled).
+    # Unset: required in production, optional in development and tests.
+    mfa: Literal["required", "optional"] | None = None
     cookie_secure: bool = False
     certificate_validity_months: int = Field(default=12, ge=1, le=120)
     # The public address printed on certificates and in QR codes; production requires an https one.
@@ -102,6 +105,12 @@ class Settings(BaseSettings):
         if parts.scheme != "https" or not parts.hostname or parts.query or parts.fragment:
             raise ValueError(f"TRIKECERT_BASE_URL {self.base_url!r} is not an https address; {example}")
         return self
+
+    def mfa_mode(self) -> Literal["required", "optional"]:
+        """The second factor in force: as set, else required in production and optional elsewhere."""
+        if self.mfa is not None:
+            return self.mfa
+        return "required" if self.environment == "production" else "optional"
 
     def rules(self) -> Rules:
         """The stability rules in force under these settings."""

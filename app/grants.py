@@ -37,6 +37,7 @@ PRIVILEGES: dict[str, str] = {
     "login_attempt": EDITABLE,
     "login_throttle": EDITABLE,  # the per-key count of password checks, bumped by one upsert
     "audit_event": APPEND_ONLY,
+    "recovery_code": DISPOSABLE,  # a new enrolment or an admin's reset replaces them
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
     "form_submission": EDITABLE,
     "alembic_version": "SELECT",  # /readyz checks the revision

@@ -1,7 +1,7 @@
 """Imports every ORM model so the metadata is complete (for Alembic and the tests)."""
 
 import app.audit.recorder  # noqa: F401  (the audit listener on every session)
-from app.accounts.models import LoginAttempt, LoginThrottle, User, UserSession
+from app.accounts.models import LoginAttempt, LoginThrottle, RecoveryCode, User, UserSession
 from app.audit.models import AuditEvent
 from app.certificates.models import (
     Certificate,
@@ -31,6 +31,7 @@ __all__ = [
     "LoginAttempt",
     "LoginThrottle",
     "Reading",
+    "RecoveryCode",
     "Seat",
     "SigningKey",
     "Station",

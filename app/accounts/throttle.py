@@ -67,6 +67,15 @@ def claim_check(
     return ClaimedCheck(keys=tuple(claimed))
 
 
+def claim_key(session: Session, *, key: str, limit: int, settings: Settings) -> ClaimedCheck | None:
+    """Count one check against a single key (a second-factor code of one account, say); None when
+    its allowance is used up within the lock-out window."""
+    window = settings.login_lockout_minutes * 60
+    if _count(session, key=key, limit=limit, window=window, now=int(time.time())) > limit:
+        return None
+    return ClaimedCheck(keys=(key,))
+
+
 def settle_check(session: Session, check: ClaimedCheck, *, outcome: str) -> None:
     """Once the password is decided: a wrong one keeps its count; a right one clears the email's
     count (a success ends the run of failures) and is given back to the address."""

@@ -70,7 +70,9 @@ class Audited:
 
 
 AUDITED: dict[type[Any], Audited] = {
-    User: Audited("user", ("email", "role", "active"), lambda r: r.id, frozenset({"password_hash"})),
+    User: Audited(
+        "user", ("email", "role", "active"), lambda r: r.id, frozenset({"password_hash", "totp_secret"})
+    ),
     Station: Audited("station", ("name", "active"), lambda r: r.id, frozenset({"key_hash"})),
     Vehicle: Audited("vehicle", ("registration_number", "make", "model"), lambda r: r.registration_number),
     SigningKey: Audited(
@@ -115,6 +117,10 @@ def _changed(record: Any, audited: Audited) -> tuple[str, dict[str, Any]] | None
     if not details:
         return None
     named = next((NAMED_CHANGES[key] for key in details if key in NAMED_CHANGES), None)
+    if "totp_confirmed_at" in details:
+        named = "second_factor_enrolled" if details["totp_confirmed_at"][1] else "second_factor_reset"
+    elif "totp_secret" in details:
+        named = "second_factor_enrolment_started"
     if named is None and "active" in details:
         named = "enabled" if details["active"][1] else "disabled"
     return f"{audited.target_type}.{named or 'changed'}", details
@@ -147,17 +153,33 @@ def _chain_end(connection: Connection) -> tuple[int, str]:
     return (0, GENESIS) if last is None else (last.id, last.hash)
 
 
+def record_event(
+    session: Session, *, action: str, target_type: str, target_id: object, details: dict[str, Any]
+) -> None:
+    """Record an event that no stored row shows (a recovery code used, say), in the session's
+    current transaction: it is kept only if that transaction commits."""
+    _append(session, [(target_type, target_id, action, details)])
+
+
 @event.listens_for(Session, "after_flush")
 def _record(session: Session, _flush: UOWTransaction) -> None:
     found = _events(session)
-    if not found:
-        return
+    if found:
+        _append(
+            session,
+            [
+                (audited.target_type, audited.target_id(record), action, details)
+                for audited, record, action, details in found
+            ],
+        )
+
+
+def _append(session: Session, items: list[tuple[str, object, str, dict[str, Any]]]) -> None:
     connection = session.connection()
     last_id, previous = _chain_end(connection)
     actor, moment = _actor(session), utcnow()
     rows = []
-    for position, (audited, record, action, details) in enumerate(found, start=last_id + 1):
-        target = audited.target_id(record)
+    for position, (target_type, target, action, details) in enumerate(items, start=last_id + 1):
         fields = EventFields(
             id=position,
             occurred_at=moment,
@@ -165,7 +187,7 @@ def _record(session: Session, _flush: UOWTransaction) -> None:
             actor_id=actor.id,
             actor_label=actor.label[:300],
             action=action,
-            target_type=audited.target_type,
+            target_type=target_type,
             target_id=None if target is None else str(target)[:64],
             details=canonical_json(details),
             previous_hash=previous,

@@ -9,6 +9,7 @@ from sqlalchemy.orm import Session
 from starlette.datastructures import FormData
 from starlette.requests import Request
 
+from app.accounts import second_factor
 from app.accounts.models import UserSession
 from app.accounts.sessions import load_session, pop_flash
 from app.audit.recorder import Actor, act_as
@@ -21,11 +22,13 @@ SessionDep = Annotated[Session, Depends(get_session)]
 
 
 class SignInRequired(Exception):
-    """No live session: the browser is sent to the sign-in page, then back to `next_path`."""
+    """No live session (or one still to pass its second factor): the browser is sent to `page`
+    (the sign-in page, the code page or the enrolment page), then back to `next_path`."""
 
-    def __init__(self, next_path: str) -> None:
+    def __init__(self, next_path: str, page: str = "/login") -> None:
         super().__init__(next_path)
         self.next_path = next_path
+        self.page = page
 
 
 class Forbidden(Exception):
@@ -42,12 +45,32 @@ def _live_session(request: Request, session: Session) -> UserSession | None:
     return record
 
 
-def current_login(request: Request, session: SessionDep) -> UserSession:
-    """The signed-in session of a page view, or a redirect to sign in."""
+def _asked_for(request: Request) -> str:
+    return request.url.path + (f"?{request.url.query}" if request.url.query else "")
+
+
+def _second_factor_gate(request: Request, record: UserSession) -> None:
+    """Send a session that has not passed its second factor to the code (or enrolment) page."""
+    if not second_factor.passed(record, get_settings()):
+        enrolled = second_factor.is_enrolled(record.user)
+        raise SignInRequired(_asked_for(request), page="/login/code" if enrolled else "/account/two-factor")
+
+
+def pending_login(request: Request, session: SessionDep) -> UserSession:
+    """A live session, whether or not it has passed its second factor (the code and enrolment pages)."""
     record = _live_session(request, session)
     if record is None:
-        path = request.url.path + (f"?{request.url.query}" if request.url.query else "")
-        raise SignInRequired(path)
+        raise SignInRequired(_asked_for(request))
+    request.state.login = record
+    return record
+
+
+def current_login(request: Request, session: SessionDep) -> UserSession:
+    """The signed-in session of a page view, or a redirect to sign in (or to its second factor)."""
+    record = _live_session(request, session)
+    if record is None:
+        raise SignInRequired(_asked_for(request))
+    _second_factor_gate(request, record)
     request.state.login = record
     request.state.flash = pop_flash(session, record)
     return record
@@ -61,8 +84,8 @@ async def form_data(request: Request) -> FormData:
 FormDep = Annotated[FormData, Depends(form_data)]
 
 
-def checked_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
-    """A POST from a signed-in session carrying that session's CSRF token; anything else is 403."""
+def pending_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
+    """A POST carrying the session's CSRF token, whether or not it has passed its second factor."""
     record = _live_session(request, session)
     if record is None:
         raise CsrfRefused
@@ -71,6 +94,16 @@ def checked_post(request: Request, session: SessionDep, form: FormDep) -> UserSe
     return record
 
 
+def checked_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
+    """A POST from a signed-in session (past its second factor) carrying that session's CSRF token;
+    anything else is 403 (or, before the second factor, a redirect to it)."""
+    record = pending_post(request, session, form)
+    _second_factor_gate(request, record)
+    return record
+
+
+PendingLogin = Annotated[UserSession, Depends(pending_login)]
+PendingPost = Annotated[UserSession, Depends(pending_post)]
 CurrentLogin = Annotated[UserSession, Depends(current_login)]
 PostLogin = Annotated[UserSession, Depends(checked_post)]
 

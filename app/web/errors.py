@@ -53,7 +53,7 @@ async def on_sign_in_required(request: Request, exc: Exception) -> Response:
     """Send the browser to the sign-in page, remembering where it was going."""
     assert isinstance(exc, SignInRequired)
     query = urlencode({"next": exc.next_path}) if exc.next_path not in ("", "/") else ""
-    return RedirectResponse(f"/login?{query}" if query else "/login", status_code=303)
+    return RedirectResponse(f"{exc.page}?{query}" if query else exc.page, status_code=303)
 
 
 async def on_csrf_refused(request: Request, _exc: Exception) -> Response:

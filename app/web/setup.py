@@ -8,6 +8,7 @@ from fastapi import FastAPI
 from fastapi.staticfiles import StaticFiles
 
 from app.accounts.admin_views import router as admin_router
+from app.accounts.second_factor_views import router as second_factor_router
 from app.accounts.views import router as accounts_router
 from app.audit.views import router as audit_router
 from app.inspections.views import router as inspections_router
@@ -28,6 +29,7 @@ def install_web(app: FastAPI) -> None:
     for router in (
         home_router,
         accounts_router,
+        second_factor_router,
         admin_router,
         audit_router,
         stations_router,

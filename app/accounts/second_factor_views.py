@@ -1,0 +1,124 @@
+"""The second-factor pages: enrol an authenticator app, enter a code at sign-in, and an admin's reset."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Query
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts import second_factor
+from app.accounts.service import get_user
+from app.accounts.sessions import set_flash
+from app.accounts.views import safe_next
+from app.config import get_settings
+from app.errors import ServiceError
+from app.web.deps import AdminPost, FormDep, PendingLogin, PendingPost, SessionDep
+from app.web.forms import FormErrors, text
+from app.web.templating import render
+
+router = APIRouter(include_in_schema=False)
+NextPath = Annotated[str | None, Query(alias="next")]
+
+
+def _code_page(request: Request, *, next_path: str, errors: FormErrors, status_code: int = 200) -> Response:
+    return render(
+        request,
+        "accounts/code.html",
+        {"next_path": next_path, "errors": errors.messages},
+        status_code=status_code,
+    )
+
+
+@router.get("/login/code")
+def code_form(request: Request, login: PendingLogin, next_path: NextPath = None) -> Response:
+    """The second step of signing in: a code from the authenticator app, or a recovery code."""
+    if not second_factor.is_enrolled(login.user):
+        return RedirectResponse(f"/account/two-factor?next={safe_next(next_path)}", status_code=303)
+    return _code_page(request, next_path=safe_next(next_path), errors=FormErrors())
+
+
+@router.post("/login/code")
+def submit_code(request: Request, session: SessionDep, login: PendingPost, form: FormDep) -> Response:
+    """Accept the code once and let the session go on, or show the form again with the problem."""
+    next_path = safe_next(text(form, "next", limit=500))
+    errors = FormErrors()
+    try:
+        kind = second_factor.check_code(
+            session, user=login.user, code=text(form, "code", limit=40), settings=get_settings()
+        )
+    except ServiceError as error:
+        errors.add_problems(error.problems, {"code": "code"}, "code")
+        return _code_page(request, next_path=next_path, errors=errors, status_code=error.status)
+    second_factor.mark_passed(session, login)
+    if kind == "recovery code":
+        left = second_factor.remaining_recovery_codes(session, user=login.user)
+        set_flash(
+            session,
+            login,
+            f"Signed in with a recovery code; it no longer works. {left} recovery codes are left.",
+        )
+    return RedirectResponse(next_path, status_code=303)
+
+
+def _enrol_page(
+    request: Request,
+    *,
+    enrolment: second_factor.Enrolment,
+    next_path: str,
+    errors: FormErrors,
+    status_code: int = 200,
+) -> Response:
+    return render(
+        request,
+        "accounts/enrol.html",
+        {"enrolment": enrolment, "next_path": next_path, "errors": errors.messages},
+        status_code=status_code,
+    )
+
+
+@router.get("/account/two-factor")
+def enrol_form(
+    request: Request, session: SessionDep, login: PendingLogin, next_path: NextPath = None
+) -> Response:
+    """Set up the second factor: the QR code and the secret in text, and a code to confirm them."""
+    if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
+        return RedirectResponse(f"/login/code?next={safe_next(next_path)}", status_code=303)
+    enrolment = second_factor.start_enrolment(session, user=login.user, settings=get_settings())
+    return _enrol_page(request, enrolment=enrolment, next_path=safe_next(next_path), errors=FormErrors())
+
+
+@router.post("/account/two-factor")
+def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost, form: FormDep) -> Response:
+    """Turn the second factor on once a code from the app is right; show the recovery codes once."""
+    next_path = safe_next(text(form, "next", limit=500))
+    settings = get_settings()
+    if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
+        return RedirectResponse(f"/login/code?next={next_path}", status_code=303)
+    try:
+        codes = second_factor.confirm_enrolment(
+            session, user=login.user, code=text(form, "code", limit=40), settings=settings
+        )
+    except ServiceError as error:
+        errors = FormErrors()
+        errors.add_problems(error.problems, {"code": "code"}, "code")
+        enrolment = second_factor.start_enrolment(session, user=login.user, settings=settings)
+        return _enrol_page(
+            request, enrolment=enrolment, next_path=next_path, errors=errors, status_code=error.status
+        )
+    second_factor.mark_passed(session, login)
+    return render(request, "accounts/recovery_codes.html", {"codes": codes, "next_path": next_path})
+
+
+@router.post("/admin/users/{user_id}/two-factor/reset")
+def reset_second_factor(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+    """Remove an account's second factor: it enrols again at its next sign-in (recorded in the audit log)."""
+    user = get_user(session, user_id)
+    second_factor.reset_second_factor(session, user=user)
+    set_flash(
+        session,
+        login,
+        f"The second factor of {user.email} was reset; they set it up again at their next sign-in.",
+    )
+    return RedirectResponse("/admin/users", status_code=303)
