@@ -54,11 +54,12 @@ def enrol(client: TestClient) -> tuple[str, list[str]]:
 def enter_code(client: TestClient, code: str) -> Response:
     page = client.get("/login/code")
     assert page.status_code == 200
-    return client.post(
+    response: Response = client.post(
         "/login/code",
         data={"csrf_token": hidden(page.text), "next": "/", "code": code},
         follow_redirects=False,
     )
+    return response
 
 
 def test_a_new_officer_must_enrol_before_any_page_then_signs_in_with_a_code(
