@@ -34,9 +34,9 @@ PRIVILEGES: dict[str, str] = {
     "station_rate_window": EDITABLE,  # the per-window counter's upsert
     "user_account": EDITABLE,
     "user_session": DISPOSABLE,  # sign-out and expiry
-    "login_attempt": EDITABLE,
+    "login_attempt": APPEND_ONLY,  # the lock-out's evidence: nobody rewrites it through the app
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
-    "form_submission": EDITABLE,
+    "form_submission": APPEND_ONLY,  # a used form token
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")
