@@ -34,12 +34,12 @@ PRIVILEGES: dict[str, str] = {
     "station_rate_window": EDITABLE,  # the per-window counter's upsert
     "user_account": EDITABLE,
     "user_session": DISPOSABLE,  # sign-out and expiry
-    "login_attempt": EDITABLE,
+    "login_attempt": APPEND_ONLY,  # the sign-ins' evidence: nobody rewrites it through the app
     "login_throttle": EDITABLE,  # the per-key count of password checks, bumped by one upsert
     "audit_event": APPEND_ONLY,
     "recovery_code": DISPOSABLE,  # a new enrolment or an admin's reset replaces them
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
-    "form_submission": EDITABLE,
+    "form_submission": APPEND_ONLY,  # a used form token
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

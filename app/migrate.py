@@ -9,10 +9,18 @@ from alembic.config import Config
 from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from sqlalchemy import Engine
+from sqlalchemy.exc import DBAPIError
 
 import migrations
 from app.config import get_settings
+from app.errors import ServiceError
 from app.grants import grant_app_role
+
+INSUFFICIENT_PRIVILEGE = "42501"
+
+
+class NotTheOwner(ServiceError):
+    """The role connected may not change the schema (the app's role): migrate as the owner."""
 
 
 def alembic_config(url: str) -> Config:
@@ -29,12 +37,20 @@ def upgrade(engine: Engine) -> str | None:
     settings = get_settings()
     role = settings.app_db_role if engine.dialect.name == "postgresql" else None
     config = alembic_config(engine.url.render_as_string(hide_password=False))
-    with engine.begin() as connection:
-        config.attributes["connection"] = connection
-        command.upgrade(config, "head")
-        if role is not None:
-            password = settings.app_db_password
-            grant_app_role(connection, role, password=password.get_secret_value() if password else None)
+    try:
+        with engine.begin() as connection:
+            config.attributes["connection"] = connection
+            command.upgrade(config, "head")
+            if role is not None:
+                password = settings.app_db_password
+                grant_app_role(connection, role, password=password.get_secret_value() if password else None)
+    except DBAPIError as error:
+        if getattr(error.orig, "sqlstate", None) != INSUFFICIENT_PRIVILEGE:
+            raise
+        raise NotTheOwner(
+            f"the database role {engine.url.username} may not change the schema ({error.orig}); "
+            "run `trikecert migrate` as the owner of the tables, and `serve --no-migrate` as the app role"
+        ) from error
     return role
 
 

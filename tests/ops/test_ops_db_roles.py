@@ -4,11 +4,17 @@ HTTP as that role, every way of rewriting a protected table is refused to it."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+import uuid
+from pathlib import Path
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import Connection, Engine, text
+from sqlalchemy import Connection, Engine, create_engine, text
+from sqlalchemy.engine import make_url
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
@@ -168,3 +174,35 @@ def test_granting_refuses_a_superuser_the_owner_itself_and_an_undecided_table(
         allowed = connection.scalar(text("SELECT has_table_privilege('inspection', 'INSERT')"))
         assert allowed
         assert not connection.scalar(text("SELECT has_table_privilege('inspection', 'UPDATE')"))
+
+
+def test_migrating_as_the_app_role_says_to_migrate_as_the_owner(
+    database_url: str, owner_engine: Engine, tmp_path: Path
+) -> None:
+    on_postgresql(owner_engine)
+    name = f"trikecert_scratch_{uuid.uuid4().hex[:12]}"
+    admin = create_engine(owner_engine.url, isolation_level="AUTOCOMMIT")
+    with admin.connect() as connection:
+        connection.execute(text(f'CREATE DATABASE "{name}"'))
+    try:
+        env = {k: v for k, v in os.environ.items() if not k.startswith("TRIKECERT_")}
+        env["TRIKECERT_DATABASE_URL"] = (
+            make_url(database_url).set(database=name).render_as_string(hide_password=False)
+        )
+        migrated = subprocess.run(
+            [Path(sys.executable).parent / "trikecert", "migrate"],
+            env=env,
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+    finally:
+        with admin.connect() as connection:
+            connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+        admin.dispose()
+    assert migrated.returncode == 2
+    assert "may not change the schema" in migrated.stderr
+    assert "as the owner of the tables" in migrated.stderr
+    assert "Traceback" not in migrated.stderr
