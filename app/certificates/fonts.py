@@ -1,0 +1,161 @@
+"""The certificate's typeface: Noto Sans from PyPI (fontpkg-noto-sans), embedded as a Unicode TrueType font.
+
+The package ships the variable font. Once per process, HarfBuzz's subsetter pins it to a regular and
+a bold instance and keeps only the repertoire a certificate needs (Latin with the letters of Yoruba,
+Hausa, Igbo and other Nigerian languages, combining accents, punctuation, the naira): some 20 ms,
+where fontTools' instancer takes seconds. Each PDF then gets a copy of the parsed font that shares
+the widths and the character map and only re-reads the small font to embed its subset.
+"""
+
+from __future__ import annotations
+
+import io
+import logging
+import unicodedata
+from dataclasses import dataclass
+from functools import cache, lru_cache
+from pathlib import Path
+
+import fontpkg_noto_sans
+import uharfbuzz as hb
+from fontTools import ttLib
+from fpdf import FPDF
+from fpdf.fonts import HarfBuzzFont, SubsetMap, TTFFont
+
+FAMILY = "noto"
+REPLACEMENT = "\ufffd"  # drawn for a character the font lacks: visible, never a silent '?'
+_LOG = logging.getLogger("trikecert.certificates.pdf")
+_REPERTOIRE = (
+    (0x20, 0x7E),  # Basic Latin
+    (0xA0, 0x24F),  # Latin-1, Latin Extended-A and -B (Ɓ ɓ Ɗ ɗ Ƙ ƙ Ŋ ŋ)
+    (0x250, 0x2FF),  # IPA letters used in African orthographies (ɛ ɔ), spacing modifiers
+    (0x300, 0x36F),  # combining diacritics (Yoruba tones over dotted letters)
+    (0x1E00, 0x1EFF),  # Latin Extended Additional (ẹ ọ ṣ with their tones)
+    (0x2000, 0x206F),  # general punctuation
+    (0x20A0, 0x20C0),  # currency signs (₦)
+    (0x2100, 0x2122),  # letterlike symbols (™, №)
+    (0x2190, 0x2199),  # arrows
+    (0x2212, 0x2212),  # minus sign
+    (0x25CC, 0x25CC),  # dotted circle (a lone combining mark)
+    (0xFFFD, 0xFFFD),  # the replacement character itself
+)
+_STYLES = {"": 400, "B": 700}
+
+
+@dataclass(frozen=True)
+class _Face:
+    """One prepared style: the font to embed (no layout tables), and with them for HarfBuzz."""
+
+    embed: bytes
+    shaping: bytes
+
+
+def font_file() -> Path:
+    """The variable Noto Sans file installed with the fontpkg-noto-sans package."""
+    return Path(fontpkg_noto_sans.ROOT) / "files" / "NotoSans[wdth,wght].ttf"
+
+
+@lru_cache(maxsize=1)
+def _faces() -> dict[str, _Face]:
+    face = hb.Face(hb.Blob.from_file_path(str(font_file())))
+    faces = {}
+    for style, weight in _STYLES.items():
+        wanted = hb.SubsetInput()
+        for low, high in _REPERTOIRE:
+            wanted.unicode_set.update(range(low, high + 1))
+        wanted.pin_axis_location(face, "wght", weight)
+        wanted.pin_axis_location(face, "wdth", 100)
+        wanted.flags = hb.SubsetFlags.NO_HINTING | hb.SubsetFlags.NOTDEF_OUTLINE | hb.SubsetFlags.GLYPH_NAMES
+        shaping = hb.subset(face, wanted)
+        if shaping is None:  # pragma: no cover - only if the package shipped a broken font
+            raise RuntimeError(f"could not prepare {font_file()}")
+        font = ttLib.TTFont(io.BytesIO(shaping.blob.data))
+        # fpdf2 drops these from the embedded subset anyway; without them each render parses far less.
+        for tag in ("GSUB", "GPOS", "GDEF", "STAT", "gasp"):
+            if tag in font:
+                del font[tag]
+        embed = io.BytesIO()
+        font.save(embed)
+        faces[style] = _Face(embed=embed.getvalue(), shaping=bytes(shaping.blob.data))
+    return faces
+
+
+@cache
+def _prototype(style: str) -> TTFFont:
+    face = _faces()[style]
+    # TTFFont reads its font through fontTools, which takes a file object as well as a path.
+    proto = TTFFont(FPDF(), io.BytesIO(face.embed), f"{FAMILY}{style}", style)  # type: ignore[arg-type]
+    proto._hbfont = HarfBuzzFont(hb.Face(hb.Blob(face.shaping)))
+    return proto
+
+
+def _copy_for(pdf: FPDF, style: str) -> TTFFont:
+    """A font for one document: shared widths, cmap and shaper; its own subset and its own font to cut."""
+    proto = _prototype(style)
+    font = TTFFont.__new__(TTFFont)
+    for slot in TTFFont.__slots__:
+        if hasattr(proto, slot):
+            setattr(font, slot, getattr(proto, slot))
+    font.i = len(pdf.fonts) + 1
+    font.ttfont = ttLib.TTFont(
+        io.BytesIO(_faces()[style].embed), recalcTimestamp=False, recalcBBoxes=False, lazy=True
+    )
+    font.missing_glyphs = []
+    font.subset = SubsetMap(font)
+    return font
+
+
+def widths(style: str) -> dict[int, float]:
+    """Advance widths per code point, in thousandths of the font size."""
+    return _prototype(style).cw
+
+
+def install(pdf: FPDF) -> None:
+    """Make the family `noto` (regular and bold) available to `pdf.set_font`."""
+    for style in _STYLES:
+        font = _copy_for(pdf, style)
+        pdf.fonts[font.fontkey] = font
+
+
+def warm() -> None:
+    """Prepare the fonts now (about 20 ms), so the first certificate does not pay for it."""
+    for style in _STYLES:
+        _prototype(style)
+
+
+@lru_cache(maxsize=1)
+def _covered() -> frozenset[int]:
+    return frozenset(_prototype("").cmap) & frozenset(_prototype("B").cmap)
+
+
+class Printable:
+    """Maps text to what the font can draw; characters it lacks become U+FFFD, each logged once."""
+
+    def __init__(self) -> None:
+        self.missing: set[str] = set()
+
+    def __call__(self, text: str) -> str:
+        """The text with every character the font lacks replaced by U+FFFD."""
+        covered = _covered()
+        if all(ord(char) in covered for char in text):
+            return text
+        out = []
+        for char in text:
+            if ord(char) in covered:
+                out.append(char)
+                continue
+            if char not in self.missing:
+                self.missing.add(char)
+            out.append(REPLACEMENT)
+        return "".join(out)
+
+    def report(self, number: str) -> None:
+        """Log, once per document, which characters were drawn as U+FFFD."""
+        if self.missing:
+            names = ", ".join(f"U+{ord(c):04X} {unicodedata.name(c, '?')}" for c in sorted(self.missing))
+            _LOG.warning("certificate %s: the font lacks %s; drawn as U+FFFD", number, names)
+
+
+def needs_shaping(text: str) -> bool:
+    """True when the text holds a combining mark, which only a shaper places well over its letter."""
+    return any(unicodedata.combining(char) for char in text)
