@@ -9,10 +9,11 @@ which the layout keeps clear of text and the tests check against the text read b
 from __future__ import annotations
 
 import unicodedata
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from fpdf import FPDF
+from fpdf.line_break import Fragment
 
 from app.certificates import fonts
 
@@ -63,6 +64,7 @@ class Page(FPDF):
         self.set_auto_page_break(auto=False)
         self.set_margins(MARGIN, MARGIN, MARGIN)
         self.c_margin = 0
+        self.alias_nb_pages(None)  # type: ignore[arg-type]  # a make written "{nb}" prints as written
         self._wrapped: dict[tuple[float, str, float, bool], list[str]] = {}
 
     def style(self, size: float, bold: bool = False) -> None:
@@ -97,19 +99,41 @@ class Page(FPDF):
         height = line_height(size)
         self.style(size, bold)
         for line in self.lines(width, text, size, bold):
-            self._shaping(line)
+            shaped = self._shaping(line)
             self.set_xy(x, y)
+            if shaped:
+                # A raised accent sits above its letter's baseline, and text extractors (poppler,
+                # pdfium) would read it as a line of its own: the line's text is given as ActualText.
+                self._out(f"/Span <</ActualText <FEFF{line.encode('utf-16-be').hex().upper()}>>> BDC")
             self.cell(width, height, line, align=align)
+            if shaped:
+                self._out("EMC")
             y += height
         self._shaping("")
         return y
 
-    def _shaping(self, text: str) -> None:
+    def _parse_chars(
+        self,
+        text: str,
+        markdown: bool,
+        *,
+        _initial_emphasis: tuple[bool, bool, bool, bool] | None = None,
+    ) -> Iterator[Fragment]:
+        # fpdf2 starts a new fragment, shaped on its own, at every change of Unicode script, and
+        # counts a combining accent (script "Inherited") as a change: the accent then loses its
+        # letter. Certificate text is Latin and common punctuation: shape each line whole.
+        if self.text_shaping and not markdown:
+            yield Fragment(text, self._get_current_graphics_state(), self.k)
+            return
+        yield from super()._parse_chars(text, markdown, _initial_emphasis=_initial_emphasis)
+
+    def _shaping(self, text: str) -> bool:
         # HarfBuzz places combining accents over their letters, at about twice the cost of a plain
         # line: only text that has them is shaped.
         wanted = fonts.needs_shaping(text)
         if wanted != bool(self.text_shaping):
             self.set_text_shaping(wanted)
+        return wanted
 
     def room(self, height: float) -> None:
         """Start a new page unless `height` mm fit below the cursor."""
