@@ -11,6 +11,7 @@ from __future__ import annotations
 import unicodedata
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from typing import Any
 
 from fpdf import FPDF
 from fpdf.line_break import Fragment
@@ -60,12 +61,18 @@ class Page(FPDF):
         super().__init__(orientation="portrait", unit="mm", format="A4")
         self.layout = Layout()
         self.continued = continued
-        fonts.install(self)
+        self._embedded = fonts.install(self)
         self.set_auto_page_break(auto=False)
         self.set_margins(MARGIN, MARGIN, MARGIN)
         self.c_margin = 0
         self.alias_nb_pages(None)  # type: ignore[arg-type]  # a make written "{nb}" prints as written
         self._wrapped: dict[tuple[float, str, float, bool], list[str]] = {}
+
+    def output(self, *args: Any, **kwargs: Any) -> Any:
+        """The PDF (see FPDF.output), each embedded font first cut down to the glyphs used."""
+        for font in self._embedded:
+            fonts.cut(font)
+        return super().output(*args, **kwargs)
 
     def style(self, size: float, bold: bool = False) -> None:
         """Set the embedded font at `size` points."""
