@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from datetime import datetime
 
 import segno
-from fpdf.enums import RenderStyle
 
 from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.facts import CaseFacts, Facts
@@ -297,7 +296,7 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
 
 
 def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:
-    """The QR code as filled vector squares filling a `size` mm square, its quiet zone included."""
+    """The QR code filling a `size` mm square, its quiet zone included, whatever its version."""
     # A fixed mask pattern: any of the eight decodes alike, and scoring all eight for the "best" one
     # (segno's default) costs four times the rest of the page.
     code = segno.make(data, error="m", boost_error=False, mask=QR_MASK)
@@ -306,8 +305,10 @@ def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:
     pdf.region("qr", x, y, size, size)
     pdf.set_fill_color(255, 255, 255)
     pdf.rect(x, y, size, size, style="F")
-    pdf.set_fill_color(0, 0, 0)
-    fill = RenderStyle.F  # the enum itself: a string would be parsed again for each of ~1000 squares
+    # One path of a rectangle per run of dark modules, filled once: a call of fpdf2's rect() per run
+    # (about 1,500 of them) cost as much as the rest of the page.
+    k, top = pdf.k, pdf.h
+    runs = []
     for r, row in enumerate(rows):
         c = 0
         while c < len(row):
@@ -317,4 +318,8 @@ def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:
             start = c
             while c < len(row) and row[c]:
                 c += 1
-            pdf.rect(x + start * module, y + r * module, (c - start) * module, module, style=fill)
+            runs.append(
+                f"{(x + start * module) * k:.3f} {(top - y - r * module) * k:.3f} "
+                f"{(c - start) * module * k:.3f} {-module * k:.3f} re"
+            )
+    pdf.draw_raw("q 0 g\n" + "\n".join(runs) + "\nf Q")

@@ -154,6 +154,10 @@ class Page(FPDF):
         y = self.box(MARGIN, MARGIN, CONTENT_W, self.continued, 11, bold=True)
         self.set_xy(MARGIN, y + 3)
 
+    def draw_raw(self, operators: str) -> None:
+        """Append PDF content operators to the current page as they are."""
+        self._out(operators)
+
     def region(self, kind: str, x: float, y: float, w: float, h: float) -> None:
         """Record a graphic's region on the current page."""
         self.layout.regions.append(Region(kind, self.page, x, y, w, h))
