@@ -85,8 +85,15 @@ def _prototype(style: str) -> TTFFont:
     face = _faces()[style]
     # TTFFont reads its font through fontTools, which takes a file object as well as a path.
     proto = TTFFont(FPDF(), io.BytesIO(face.embed), f"{FAMILY}{style}", style)  # type: ignore[arg-type]
-    proto._hbfont = HarfBuzzFont(hb.Face(hb.Blob(face.shaping)))
+    # Documents render in several threads and share this parsed font: read it whole now, so that no
+    # lazy read from its file object happens later, concurrently.
+    proto.ttfont.ensureDecompiled()
     return proto
+
+
+@lru_cache(maxsize=len(_STYLES))
+def _shaping_face(style: str) -> hb.Face:
+    return hb.Face(hb.Blob(_faces()[style].shaping))
 
 
 def _copy_for(pdf: FPDF, style: str) -> TTFFont:
@@ -97,6 +104,7 @@ def _copy_for(pdf: FPDF, style: str) -> TTFFont:
         if hasattr(proto, slot):
             setattr(font, slot, getattr(proto, slot))
     font.i = len(pdf.fonts) + 1
+    font._hbfont = HarfBuzzFont(_shaping_face(style))  # its own: shaping sets the font's size
     font.missing_glyphs = []
     font.subset = SubsetMap(font)
     return font

@@ -12,6 +12,7 @@ import re
 import shutil
 import subprocess
 import xml.etree.ElementTree as ET
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -279,3 +280,25 @@ def test_a_certificate_with_yoruba_names_reads_back_exactly(
     assert YORUBA_STATION in lines
     assert "Ọkọ̀ Ẹlẹ́ṣin ɓɗƙŋ" in lines
     assert "Lateral Stability Certificate" in lines
+
+
+def test_documents_rendered_at_once_in_threads_are_the_same_bytes(
+    client: TestClient, session: Session, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    documents: list[CertificateDocument] = []
+
+    def keep(document: CertificateDocument) -> bytes:
+        documents.append(document)
+        return render_with_layout(document)[0]
+
+    monkeypatch.setattr(service, "render_pdf", keep)
+    _station, key = create_station(session, name=YORUBA_STATION)
+    client.headers["Authorization"] = f"Bearer {key}"
+    register(client, {**FRONT_HEAVY, "make": YORUBA_MAKE})
+    certify(client, weigh(client, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    register(client)
+    certify(client, weigh(client))
+    expected = [render_with_layout(document)[0] for document in documents]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        rendered = list(pool.map(lambda d: render_with_layout(d)[0], documents * 6))
+    assert rendered == expected * 6
