@@ -5,7 +5,7 @@ Run by hand:  .venv/bin/python bench/pdf.py [--certificates 100] [--downloads 50
 On a fresh database (SQLite in a temporary folder unless --database names an empty PostgreSQL
 database), through the application in-process (FastAPI TestClient, no network):
 - render: app.certificates.pdf.render_pdf alone, timed inside each issue (the first call, which
-  loads fonts, is reported apart);
+  prepares the embedded Noto Sans from the variable font, is reported apart);
 - issue: POST /api/v1/inspections/{id}/certificate, a new certificate of a stored inspection
   (number, signature, facts, render, store);
 - download: GET /api/v1/certificates/{number}/pdf, the stored bytes again.
@@ -115,7 +115,7 @@ def main() -> None:
     )
     print("| step | n | median ms | p90 ms | p99 ms |")
     print("| --- | --- | --- | --- | --- |")
-    print(f"| render_pdf, first call in the process (fonts loaded) | 1 | {renders[0]:.2f} | | |")
+    print(f"| render_pdf, first call in the process (fonts prepared) | 1 | {renders[0]:.2f} | | |")
     print(summary("render_pdf, each new certificate after the first", renders[1:]))
     print(summary("POST .../certificate (issue: number, sign, render, store)", issues[1:]))
     print(summary("GET /api/v1/certificates/{number}/pdf (stored bytes)", downloads))

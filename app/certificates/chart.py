@@ -2,7 +2,7 @@
 
 x: the loading cases; y: LSF; a dashed line at the 2/3 limit, the region above it shaded
 "unstable"; each case a circle (C) or a cross (NC) with its letters beside it, so nothing is
-told by colour alone.
+told by colour alone. The chart's text is set in the certificate's embedded font.
 """
 
 from __future__ import annotations
@@ -13,11 +13,18 @@ from dataclasses import dataclass
 
 from fpdf import FPDF
 
+from app.certificates import fonts
 from app.certificates.facts import CaseFacts
 from app.stability import LSF_LIMIT
 
 LIMIT = float(LSF_LIMIT)
 STEP = 0.05
+STEPS = (0.05, 0.1, 0.2, 0.25, 0.5)
+MIN_TICK_GAP = 4.5  # mm between two tick labels: more than the height of a 7 pt label
+PREFERRED_H, MIN_H = 62.0, 34.0
+ABOVE = 6.0  # the legend line above the plotting area
+BELOW = 11.0  # the case names and the axis title below it
+LEFT, RIGHT = 12.0, 16.0  # tick labels on the left, "limit 2/3" on the right
 
 
 @dataclass(frozen=True)
@@ -37,13 +44,28 @@ def axis_range(values: Sequence[float]) -> tuple[float, float]:
     return math.floor(low / STEP + 1e-9) * STEP, math.ceil(high / STEP - 1e-9) * STEP
 
 
+def tick_step(low: float, high: float, height: float) -> float:
+    """The smallest tick step whose labels stand at least MIN_TICK_GAP apart."""
+    for step in STEPS:
+        if height * step / (high - low) >= MIN_TICK_GAP:
+            return step
+    return STEPS[-1]
+
+
+def chart_height(room: float) -> float | None:
+    """The plotting area's height for `room` mm below the heading (None: too little room)."""
+    height = min(PREFERRED_H, room - ABOVE - BELOW)
+    return height if height >= MIN_H else None
+
+
 def short_label(occupants: int) -> str:
     """The axis name of a case: None, Driver, +1, +2, ..."""
     return {0: "None", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
 
 
-def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> None:
-    """Draw the chart of LSF per loading case against the limit inside `box`."""
+def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> tuple[float, float, float, float]:
+    """Draw the chart of LSF per loading case below `box.y`; returns the area it covers (x, y, w, h)."""
+    box = Box(box.x, box.y + ABOVE, box.w, box.h)
     values = [float(case.lsf) for case in cases]
     low, high = axis_range(values)
 
@@ -56,29 +78,29 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> None:
     limit_y = y_of(LIMIT)
     pdf.set_fill_color(232, 232, 232)
     pdf.rect(box.x, box.y, box.w, limit_y - box.y, style="F")
-    pdf.set_font("helvetica", "I", 8)
+    pdf.set_font(fonts.FAMILY, "", 7)
+    pdf.text(box.x - 9, box.y - 2.5, "LSF")
     pdf.set_text_color(70, 70, 70)
-    pdf.text(box.x + 2, box.y + 4, "unstable (LSF at or above 2/3)")
+    pdf.text(box.x + 2, box.y - 2.5, "Shaded: unstable (LSF at or above 2/3)")
 
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.3)
     pdf.line(box.x, box.y, box.x, box.y + box.h)
     pdf.line(box.x, box.y + box.h, box.x + box.w, box.y + box.h)
-    pdf.set_font("helvetica", "", 7)
     pdf.set_text_color(0, 0, 0)
-    ticks = round((high - low) / STEP)
-    for i in range(ticks + 1):
-        value = low + i * STEP
+    step = tick_step(low, high, box.h)
+    first = math.ceil(low / step - 1e-9)
+    for i in range(first, math.floor(high / step + 1e-9) + 1):
+        value = i * step
         pdf.line(box.x - 1.2, y_of(value), box.x, y_of(value))
         pdf.text(box.x - 9, y_of(value) + 1, f"{value:.2f}")
-    pdf.text(box.x - 9, box.y - 3, "LSF")
 
     pdf.set_dash_pattern(dash=1.5, gap=1)
     pdf.set_line_width(0.4)
     pdf.line(box.x, limit_y, box.x + box.w, limit_y)
     pdf.set_dash_pattern()
-    pdf.set_font("helvetica", "B", 7)
-    pdf.text(box.x + box.w + 1.5, limit_y + 1, "limit 2/3")
+    pdf.set_font(fonts.FAMILY, "B", 7)
+    pdf.text(box.x + box.w + 4, limit_y + 1, "limit 2/3")
 
     pdf.set_line_width(0.2)
     pdf.set_draw_color(120, 120, 120)
@@ -87,7 +109,6 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> None:
 
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.45)
-    pdf.set_font("helvetica", "B", 7)
     for i, case in enumerate(cases):
         cx, cy = x_of(i), y_of(values[i])
         if case.compliant:
@@ -95,11 +116,14 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> None:
         else:
             pdf.line(cx - 1.4, cy - 1.4, cx + 1.4, cy + 1.4)
             pdf.line(cx - 1.4, cy + 1.4, cx + 1.4, cy - 1.4)
-        pdf.text(cx + 2.2, cy + 1, "C" if case.compliant else "NC")
-        pdf.set_font("helvetica", "", 7)
+        pdf.set_font(fonts.FAMILY, "B", 7)
+        mark = "C" if case.compliant else "NC"
+        # Above its marker (below it near the top), centred: beside it, a label runs into the next case.
+        pdf.text(cx - pdf.get_string_width(mark) / 2, cy - 2.4 if cy - box.y > 6 else cy + 4.6, mark)
+        pdf.set_font(fonts.FAMILY, "", 7)
         label = short_label(case.occupants)
         pdf.text(cx - pdf.get_string_width(label) / 2, box.y + box.h + 4, label)
-        pdf.set_font("helvetica", "B", 7)
-    pdf.set_font("helvetica", "", 7)
-    pdf.text(box.x + box.w / 2 - 10, box.y + box.h + 8.5, "Loading case (occupants)")
+    pdf.set_font(fonts.FAMILY, "", 7)
+    pdf.text(box.x + box.w / 2 - 14, box.y + box.h + 8.5, "Loading case (occupants)")
     pdf.set_line_width(0.2)
+    return box.x - LEFT, box.y - ABOVE, box.w + LEFT + RIGHT, box.h + ABOVE + BELOW

@@ -1,30 +1,27 @@
-"""The one-page A4 certificate (or refusal) as a PDF with real, selectable text (fpdf2, core fonts).
+"""The certificate (or refusal) as an A4 PDF with real, selectable text in an embedded Unicode font.
 
-Rendered once when the certificate is issued; the bytes are stored and served unchanged. Core
-fonts (Helvetica) need no font files, so every machine renders the same; text is kept to Latin-1.
+Rendered once when the certificate is issued; the bytes are stored and served unchanged. The text
+is set in Noto Sans (fonts.py), so Yoruba, Hausa and Igbo names print as written; every block is
+measured before it is drawn (pdf_layout.py), so long makes, models, station names and many loading
+cases wrap or move to a second page instead of running into the QR code or the chart.
 """
 
 from __future__ import annotations
 
-import unicodedata
 from dataclasses import dataclass
 from datetime import datetime
 
 import segno
-from fpdf import FPDF
-from fpdf.enums import RenderStyle
 
-from app.certificates.chart import Box, draw_chart
+from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.facts import CaseFacts, Facts
+from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layout, Page, line_height
 from app.web.formatting import kg, limit_text, ratio, signed, to_local
 
-MARGIN = 15.0
-PAGE_W = 210.0
-CONTENT_W = PAGE_W - 2 * MARGIN
-PAGE_H = 297.0
-VALIDITY_Y = PAGE_H - MARGIN - 14
+QR_BOX = 52.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.8 mm modules
+QR_QUIET = 4  # modules of quiet zone on each side, as the QR standard asks
 QR_MASK = 1
-COMPACT_AFTER = 6  # more loading cases than this: smaller table rows, reasons in one paragraph
+COMPACT_AFTER = 6  # more failing cases than this: the reasons in one paragraph
 TABLE_HEADINGS = (
     "Occupants",
     "Total weight (kg)",
@@ -34,7 +31,10 @@ TABLE_HEADINGS = (
     "Variance",
     "Result",
 )
-_TYPOGRAPHY = str.maketrans({"‘": "'", "’": "'", "“": '"', "”": '"', "–": "-", "—": "-", "…": "..."})
+COLUMN_WIDTHS = (44.0, 24.0, 30.0, 20.0, 24.0, 20.0, 18.0)
+COLUMN_ALIGN = ("L", "R", "R", "R", "R", "R", "C")
+CELL_PADDING = 1.2  # mm left and right of the text in a table cell
+LABEL_W = 31.0  # the label column of the vehicle and inspection particulars
 
 
 @dataclass(frozen=True)
@@ -48,12 +48,6 @@ class CertificateDocument:
     facts: Facts
     verify_url: str
     qr_url: str
-
-
-def latin1(text: str) -> str:
-    """Text the core fonts can print: typographic marks simplified, anything else outside Latin-1 as '?'."""
-    text = unicodedata.normalize("NFKC", text).translate(_TYPOGRAPHY)
-    return text.encode("latin-1", "replace").decode("latin-1")
 
 
 def when(moment: datetime) -> str:
@@ -81,253 +75,240 @@ def refusal_reason(case: CaseFacts) -> str:
     return f"{case.label}: LSF {ratio(case.lsf)} is above the limit {limit_text()} by {ratio(excess)}."
 
 
-class _Page(FPDF):
-    def key_values(self, x: float, width: float, heading: str, rows: list[tuple[str, str]]) -> float:
-        """A small heading and label: value lines in a column; returns the y below it."""
-        self.set_xy(x, self.get_y())
-        self.set_font("helvetica", "B", 11)
-        self.cell(width, 6, latin1(heading), new_x="LEFT", new_y="NEXT")
-        for label, value in rows:
-            self.set_x(x)
-            self.set_font("helvetica", "", 9)
-            self.cell(34, 5, latin1(label))
-            self.set_font("helvetica", "B", 9)
-            self.multi_cell(width - 34, 5, latin1(value), new_x="LEFT", new_y="NEXT")
-            self.set_x(x)
-        return self.get_y()
-
-
 def render_pdf(document: CertificateDocument) -> bytes:
     """The certificate as PDF bytes; the same document always gives the same bytes."""
+    return render_with_layout(document)[0]
+
+
+def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
+    """The PDF bytes and where the layout put its graphics (for the geometry tests)."""
     facts = document.facts
-    pdf = _Page(orientation="portrait", unit="mm", format="A4")
+    pdf = Page(continued=f"{title(document.kind)} {document.number} (continued)")
     pdf.set_creation_date(document.issued_at)
-    pdf.set_title(latin1(f"{title(document.kind)} {document.number}"))
-    pdf.set_author(latin1(facts.authority))
-    pdf.set_subject(latin1(f"{facts.vehicle.registration_number}: {facts.verdict}"))
+    pdf.set_title(f"{title(document.kind)} {document.number}")
+    pdf.set_author(facts.authority)
+    pdf.set_subject(f"{facts.vehicle.registration_number}: {facts.verdict}")
     pdf.set_creator("trikecert")
     pdf.set_lang("en")
-    pdf.set_auto_page_break(auto=False)
-    pdf.set_margins(MARGIN, MARGIN, MARGIN)
     pdf.add_page()
 
     _header(pdf, document)
-    top = pdf.get_y() + 3
-    pdf.set_y(top)
-    vehicle = facts.vehicle
-    left = pdf.key_values(
-        MARGIN,
-        85,
-        "Vehicle",
-        [
-            ("Registration", vehicle.registration_number),
-            ("Make", vehicle.make),
-            ("Model", vehicle.model),
-            ("Year", str(vehicle.model_year) if vehicle.model_year else "not recorded"),
-            ("Chassis number", vehicle.chassis_number or "not recorded"),
-        ],
-    )
-    pdf.set_y(top)
-    inspection = facts.inspection
-    right = pdf.key_values(
-        MARGIN + 92,
-        CONTENT_W - 92,
-        "Inspection",
-        [
-            ("Station", inspection.station or "not recorded"),
-            ("Scale calibration", inspection.scale_calibration or "not recorded"),
-            ("Officer", inspection.officer or "none (station submission)"),
-            ("Date and time", when(inspection.weighed_at)),
-            ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
-        ],
-    )
-    pdf.set_y(max(left, right) + 3)
+    _particulars(pdf, facts)
     _readings(pdf, facts)
     _verdict(pdf, document)
     _table(pdf, facts)
-    _chart_and_qr(pdf, document)
-    return bytes(pdf.output())
+    _chart(pdf, document)
+    pdf.page_lines(f"{title(document.kind)} {document.number}")
+    pdf.layout.printable.report(document.number)
+    return bytes(pdf.output()), pdf.layout
 
 
-def _header(pdf: FPDF, document: CertificateDocument) -> None:
-    pdf.set_font("helvetica", "B", 11)
-    pdf.cell(CONTENT_W, 6, latin1(document.facts.authority), new_x="LMARGIN", new_y="NEXT")
-    pdf.set_font("helvetica", "B", 20)
-    pdf.cell(CONTENT_W, 10, title(document.kind), new_x="LMARGIN", new_y="NEXT")
-    pdf.set_font("helvetica", "", 9)
-    pdf.cell(CONTENT_W, 5, "Certificate number", new_x="LMARGIN", new_y="NEXT")
-    pdf.set_font("courier", "B", 24)
-    pdf.cell(CONTENT_W, 11, document.number, new_x="LMARGIN", new_y="NEXT")
-    pdf.set_font("helvetica", "", 9)
-    pdf.multi_cell(
-        CONTENT_W,
-        4.5,
-        latin1(
-            f"Status when issued: ISSUED. The current status (valid, expired, revoked or superseded) "
-            f"is at {document.verify_url}/{document.number}"
-        ),
-        new_x="LMARGIN",
-        new_y="NEXT",
-        align="L",
+def _header(pdf: Page, document: CertificateDocument) -> None:
+    left_w = CONTENT_W - QR_BOX - 6
+    validity = "Valid" if document.kind == "compliant" else "Refusal stands"
+    y = pdf.box(MARGIN, MARGIN, left_w, document.facts.authority, 11, bold=True)
+    y = pdf.box(MARGIN, y, left_w, title(document.kind), 20, bold=True)
+    y = pdf.box(MARGIN, y, left_w, "Certificate number", 9)
+    pdf.set_font("courier", "B", 22)  # the number is ASCII by construction (numbers.py)
+    pdf.set_xy(MARGIN, y)
+    pdf.cell(left_w, line_height(22), document.number)
+    y += line_height(22)
+    y = pdf.box(
+        MARGIN,
+        y,
+        left_w,
+        f"Issued {day(document.issued_at)}. {validity} until {day(document.expires_at)}.",
+        10,
+        bold=True,
     )
+    y = pdf.box(
+        MARGIN,
+        y,
+        left_w,
+        "Status when issued: ISSUED. The current status (valid, expired, revoked or superseded) "
+        f"is at {document.verify_url}/{document.number}",
+        8.5,
+    )
+    y = pdf.box(
+        MARGIN, y, left_w, f"Scan to verify, or visit {document.verify_url} and enter the number", 8.5
+    )
+    draw_qr(pdf, document.qr_url, PAGE_W - MARGIN - QR_BOX, MARGIN, QR_BOX)
+    bottom = max(y, MARGIN + QR_BOX) + 2
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.5)
-    pdf.line(MARGIN, pdf.get_y() + 1.5, PAGE_W - MARGIN, pdf.get_y() + 1.5)
+    pdf.line(MARGIN, bottom, PAGE_W - MARGIN, bottom)
     pdf.set_line_width(0.2)
+    pdf.set_xy(MARGIN, bottom + 3)
 
 
-def _readings(pdf: FPDF, facts: Facts) -> None:
-    pdf.set_font("helvetica", "B", 11)
-    pdf.cell(CONTENT_W, 6, "Averaged readings", new_x="LMARGIN", new_y="NEXT")
-    pdf.set_font("helvetica", "", 9)
+def _particulars(pdf: Page, facts: Facts) -> None:
+    vehicle, inspection = facts.vehicle, facts.inspection
+    columns = (
+        (
+            MARGIN,
+            86.0,
+            "Vehicle",
+            [
+                ("Registration", vehicle.registration_number),
+                ("Make", vehicle.make),
+                ("Model", vehicle.model),
+                ("Year", str(vehicle.model_year) if vehicle.model_year else "not recorded"),
+                ("Chassis number", vehicle.chassis_number or "not recorded"),
+            ],
+        ),
+        (
+            MARGIN + 92,
+            CONTENT_W - 92,
+            "Inspection",
+            [
+                ("Station", inspection.station or "not recorded"),
+                ("Scale calibration", inspection.scale_calibration or "not recorded"),
+                ("Officer", inspection.officer or "none (station submission)"),
+                ("Date and time", when(inspection.weighed_at)),
+                ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
+            ],
+        ),
+    )
+    top = pdf.get_y()
+    bottoms = []
+    for x, width, heading, rows in columns:
+        y = pdf.box(x, top, width, heading, 11, bold=True)
+        for label, value in rows:
+            below_label = pdf.box(x, y, LABEL_W - 1, label, 9)
+            below_value = pdf.box(x + LABEL_W, y, width - LABEL_W, value, 9, bold=True)
+            y = max(below_label, below_value)
+        bottoms.append(y)
+    pdf.set_xy(MARGIN, max(bottoms) + 3)
+
+
+def _readings(pdf: Page, facts: Facts) -> None:
+    half = (CONTENT_W - 4) / 2
+    texts = []
     for reading in facts.readings:
         times = "once" if reading.count == 1 else f"{reading.count} times, spread {kg(reading.spread_kg)} kg"
-        pdf.cell(
-            CONTENT_W / 2,
-            4.6,
-            latin1(f"{reading.name}: {kg(reading.mean_kg)} kg (read {times})"),
-            new_x="LMARGIN" if reading.wheel in ("left_rear_kg", "overall_kg") else "RIGHT",
-            new_y="NEXT" if reading.wheel in ("left_rear_kg", "overall_kg") else "TOP",
-        )
-    pdf.set_x(MARGIN)
-    pdf.ln(2)
+        texts.append(f"{reading.name}: {kg(reading.mean_kg)} kg (read {times})")
+    rows = [texts[i : i + 2] for i in range(0, len(texts), 2)]
+    height = line_height(11) + sum(max(pdf.measure(half, t, 9) for t in row) for row in rows)
+    pdf.room(height)
+    y = pdf.box(MARGIN, pdf.get_y(), CONTENT_W, "Averaged readings", 11, bold=True)
+    for row in rows:
+        y = max(pdf.box(MARGIN + i * (half + 4), y, half, text, 9) for i, text in enumerate(row))
+    pdf.set_xy(MARGIN, y + 2)
 
 
-def _verdict(pdf: FPDF, document: CertificateDocument) -> None:
+def _reasons(facts: Facts) -> list[tuple[str, float]]:
+    failing = facts.failing_cases
+    if len(failing) <= COMPACT_AFTER:
+        return [(f"- {refusal_reason(case)}", 9) for case in failing]
+    text = "; ".join(f"{c.label}: LSF {ratio(c.lsf)}, {ratio(-c.variance)} over" for c in failing)
+    return [(f"Limit {limit_text()}. {text}.", 8)]
+
+
+def _verdict(pdf: Page, document: CertificateDocument) -> None:
     facts = document.facts
-    pdf.set_font("helvetica", "B", 12)
-    pdf.multi_cell(CONTENT_W, 6, latin1(facts.verdict), new_x="LMARGIN", new_y="NEXT")
-    pdf.cell(
-        CONTENT_W, 6, latin1(f"Certified maximum occupancy: {facts.occupancy}"), new_x="LMARGIN", new_y="NEXT"
-    )
+    blocks: list[tuple[str, float, bool]] = [
+        (facts.verdict, 12, True),
+        (f"Certified maximum occupancy: {facts.occupancy}", 12, True),
+    ]
     if document.kind == "refusal":
-        pdf.set_font("helvetica", "B", 9)
-        pdf.cell(
-            CONTENT_W,
-            5,
-            "Reasons for refusal (cases that fail and by how much):",
-            new_x="LMARGIN",
-            new_y="NEXT",
-        )
-        pdf.set_font("helvetica", "", 9)
-        failing = facts.failing_cases
-        if len(failing) <= COMPACT_AFTER:
-            for case in failing:
-                pdf.cell(CONTENT_W, 4.5, latin1(f"- {refusal_reason(case)}"), new_x="LMARGIN", new_y="NEXT")
-        else:
-            text = "; ".join(f"{c.label}: LSF {ratio(c.lsf)}, {ratio(-c.variance)} over" for c in failing)
-            pdf.multi_cell(
-                CONTENT_W, 4.2, latin1(f"Limit {limit_text()}. {text}."), new_x="LMARGIN", new_y="NEXT"
-            )
-    pdf.ln(2)
+        blocks.append(("Reasons for refusal (cases that fail and by how much):", 9, True))
+        blocks += [(text, size, False) for text, size in _reasons(facts)]
+    pdf.room(sum(pdf.measure(CONTENT_W, text, size, bold) for text, size, bold in blocks))
+    y = pdf.get_y()
+    for text, size, bold in blocks:
+        y = pdf.box(MARGIN, y, CONTENT_W, text, size, bold=bold)
+    pdf.set_xy(MARGIN, y + 2)
 
 
-COLUMN_WIDTHS = (34.0, 24.0, 30.0, 20.0, 24.0, 20.0, 18.0)
-COLUMN_ALIGN = ("L", "R", "R", "R", "R", "R", "C")
-CELL_PADDING = 1.2  # mm left and right of the text in a table cell
+def _row(case: CaseFacts) -> tuple[str, ...]:
+    return (
+        case.label + (" *" if case.measured else ""),
+        kg(case.total_kg),
+        kg(case.rear_kg),
+        ratio(case.lsf),
+        limit_text(),
+        signed(case.variance),
+        "C" if case.compliant else "NC",
+    )
 
 
-def _table(pdf: FPDF, facts: Facts) -> None:
+def _table(pdf: Page, facts: Facts) -> None:
     # Plain bordered cells: fpdf2's table() lays out every cell as a multi-line box, which cost a
     # third of the page's rendering time for rows that are always one line.
-    pdf.set_font("helvetica", "B", 11)
-    pdf.cell(CONTENT_W, 6, "Loading cases (Table 4 of the study)", new_x="LMARGIN", new_y="NEXT")
-    compact = len(facts.cases) > COMPACT_AFTER
-    size, line = (7.0, 3.0) if compact else (9.0, 4.6)
-    row_h = line + (0.4 if compact else 1.2)
-    _table_headings(pdf, size, line)
-    pdf.set_font("helvetica", "", size)
-    pdf.c_margin = CELL_PADDING
-    for case in facts.cases:
-        values = (
-            latin1(case.label + (" *" if case.measured else "")),
-            kg(case.total_kg),
-            kg(case.rear_kg),
-            ratio(case.lsf),
-            limit_text(),
-            signed(case.variance),
-            "C" if case.compliant else "NC",
-        )
-        for width, align, value in zip(COLUMN_WIDTHS, COLUMN_ALIGN, values, strict=True):
-            pdf.cell(width, row_h, value, border=1, align=align, new_x="RIGHT", new_y="TOP")
-        pdf.ln(row_h)
-    pdf.set_font("helvetica", "", 7.5)
+    size = 9.0 if len(facts.cases) <= COMPACT_AFTER else 8.0
+    rows = [_row(case) for case in facts.cases]
+    pdf.style(size)
+    widest = max(
+        pdf.get_string_width(value) / (width - 2 * CELL_PADDING)
+        for row in rows
+        for value, width in zip(row, COLUMN_WIDTHS, strict=True)
+    )
+    size = min(size, size / widest)  # shrink the table's text until its widest cell fits
+    row_h = line_height(size) + 0.8
+    heading_h = max(
+        pdf.measure(width - 2 * CELL_PADDING, heading, size, bold=True)
+        for width, heading in zip(COLUMN_WIDTHS, TABLE_HEADINGS, strict=True)
+    )
     note = "C: compliant (LSF below 2/3). NC: not compliant. Variance = 2/3 - LSF. LSF = rear / total weight."
     if any(case.measured for case in facts.cases):
         note += " * weighed directly with the occupants or ballast aboard."
-    pdf.cell(CONTENT_W, 4, note, new_x="LMARGIN", new_y="NEXT")
-
-
-def _table_headings(pdf: FPDF, size: float, line: float) -> None:
-    """The headings row: grey, bold, each heading wrapped within its column, two lines high."""
-    pdf.set_font("helvetica", "B", size)
-    height = 2 * line + 1.2
-    top, x = pdf.get_y(), MARGIN
+    note_h = pdf.measure(CONTENT_W, note, 7.5)
+    pdf.room(line_height(11) + heading_h + 1.2 + row_h * len(rows) + note_h)
+    top = pdf.box(MARGIN, pdf.get_y(), CONTENT_W, "Loading cases (Table 4 of the study)", 11, bold=True)
+    x = MARGIN
     pdf.set_fill_color(225, 225, 225)
+    pdf.set_draw_color(0, 0, 0)
     for width, align, heading in zip(COLUMN_WIDTHS, COLUMN_ALIGN, TABLE_HEADINGS, strict=True):
-        pdf.rect(x, top, width, height, style="DF")
-        pdf.set_xy(x + CELL_PADDING, top + 0.6)
-        pdf.multi_cell(width - 2 * CELL_PADDING, line, heading, align=align, new_x="LEFT", new_y="NEXT")
+        pdf.rect(x, top, width, heading_h + 1.2, style="DF")
+        pdf.box(x + CELL_PADDING, top + 0.6, width - 2 * CELL_PADDING, heading, size, bold=True, align=align)
         x += width
-    pdf.set_xy(MARGIN, top + height)
+    y = top + heading_h + 1.2
+    pdf.style(size)
+    pdf.c_margin = CELL_PADDING
+    for row in rows:
+        pdf.set_xy(MARGIN, y)
+        for width, align, value in zip(COLUMN_WIDTHS, COLUMN_ALIGN, row, strict=True):
+            pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
+        y += row_h
+    pdf.c_margin = 0
+    y = pdf.box(MARGIN, y + 0.5, CONTENT_W, note, 7.5)
+    pdf.set_xy(MARGIN, y)
 
 
-def _chart_and_qr(pdf: FPDF, document: CertificateDocument) -> None:
-    top = pdf.get_y() + 3
-    pdf.set_font("helvetica", "B", 11)
-    pdf.set_xy(MARGIN, top)
-    pdf.cell(110, 6, "LSF per loading case against the limit 2/3")
-    chart_top = top + 12
-    chart_h = max(min(VALIDITY_Y - 12 - chart_top, 62), 24)
-    draw_chart(pdf, Box(MARGIN + 12, chart_top, 100, chart_h), document.facts.cases)
-
-    qr_size = 42.0
-    qr_x, qr_y = PAGE_W - MARGIN - qr_size, PAGE_H - MARGIN - qr_size - 16
-    _draw_qr(pdf, document.qr_url, qr_x, qr_y, qr_size)
-    pdf.set_xy(qr_x - 8, qr_y + qr_size + 1)
-    pdf.set_font("helvetica", "", 7.5)
-    pdf.multi_cell(
-        qr_size + 8,
-        3.4,
-        latin1(f"Scan to verify, or visit {document.verify_url} and enter the number"),
-        align="C",
+def _chart(pdf: Page, document: CertificateDocument) -> None:
+    """The chart, and beside it the rules the verdict was decided under."""
+    heading = line_height(11) + 1
+    height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
+    if height is None:
+        pdf.new_page()
+        height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
+        assert height is not None
+    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, "LSF per loading case against the limit 2/3", 11, bold=True)
+    area = draw_chart(pdf, Box(MARGIN + 12, top + 1, 100, height), document.facts.cases)
+    pdf.region("chart", *area)
+    rules = (
+        f"Decided under rules {document.facts.inspection.rules_version}: a loading case complies only if "
+        "its LSF is below 2/3, decided exactly; figures are rounded for display."
     )
-
-    pdf.set_xy(MARGIN, VALIDITY_Y)
-    pdf.set_font("helvetica", "B", 10)
-    validity = "Valid" if document.kind == "compliant" else "Refusal stands"
-    pdf.cell(
-        120,
-        5,
-        latin1(f"Issued {day(document.issued_at)}. {validity} until {day(document.expires_at)}."),
-        new_x="LMARGIN",
-        new_y="NEXT",
-    )
-    pdf.set_font("helvetica", "", 7.5)
-    pdf.multi_cell(
-        120,
-        3.4,
-        latin1(
-            f"Decided under rules {document.facts.inspection.rules_version}: a loading case complies only if "
-            "its LSF is below 2/3, decided exactly; figures are rounded for display."
-        ),
-        new_x="LMARGIN",
-        new_y="NEXT",
-    )
+    beside = area[0] + area[2] + 4
+    pdf.box(beside, area[1] + 6, PAGE_W - MARGIN - beside, rules, 7.5)
+    pdf.set_xy(MARGIN, area[1] + area[3] + 3)
 
 
-def _draw_qr(pdf: FPDF, data: str, x: float, y: float, size: float) -> None:
-    """The QR code as filled vector squares, with its quiet zone."""
+def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:
+    """The QR code filling a `size` mm square, its quiet zone included, whatever its version."""
     # A fixed mask pattern: any of the eight decodes alike, and scoring all eight for the "best" one
     # (segno's default) costs four times the rest of the page.
     code = segno.make(data, error="m", boost_error=False, mask=QR_MASK)
-    border = 2
-    rows = [list(row) for row in code.matrix_iter(border=border)]
+    rows = [list(row) for row in code.matrix_iter(border=QR_QUIET)]
     module = size / len(rows)
+    pdf.region("qr", x, y, size, size)
     pdf.set_fill_color(255, 255, 255)
     pdf.rect(x, y, size, size, style="F")
-    pdf.set_fill_color(0, 0, 0)
-    fill = RenderStyle.F  # the enum itself: a string would be parsed again for each of ~1000 squares
+    # One path of a rectangle per run of dark modules, filled once: a call of fpdf2's rect() per run
+    # (about 1,500 of them) cost as much as the rest of the page.
+    k, top = pdf.k, pdf.h
+    runs = []
     for r, row in enumerate(rows):
         c = 0
         while c < len(row):
@@ -337,4 +318,8 @@ def _draw_qr(pdf: FPDF, data: str, x: float, y: float, size: float) -> None:
             start = c
             while c < len(row) and row[c]:
                 c += 1
-            pdf.rect(x + start * module, y + r * module, (c - start) * module, module, style=fill)
+            runs.append(
+                f"{(x + start * module) * k:.3f} {(top - y - r * module) * k:.3f} "
+                f"{(c - start) * module * k:.3f} {-module * k:.3f} re"
+            )
+    pdf.draw_raw("q 0 g\n" + "\n".join(runs) + "\nf Q")

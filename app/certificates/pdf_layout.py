@@ -1,0 +1,204 @@
+"""Measured layout on A4 for the certificate: text wraps inside its box, blocks move to a new page.
+
+Every block is measured before it is drawn; one that does not fit below the cursor starts a new
+page. Line heights are 1.45 times the font size, more than Noto Sans' ascent plus descent (1.36),
+so the boxes of two lines never overlap. Graphics (the QR code, the chart) are recorded as regions,
+which the layout keeps clear of text and the tests check against the text read back.
+"""
+
+from __future__ import annotations
+
+import unicodedata
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+from fpdf import FPDF
+from fpdf.line_break import Fragment
+
+from app.certificates import fonts
+
+MARGIN = 15.0
+PAGE_W = 210.0
+PAGE_H = 297.0
+CONTENT_W = PAGE_W - 2 * MARGIN
+FOOT = 10.0  # the bottom margin, below the page line
+FOOTER_H = 6.0  # the page line (number, page i of n) at the foot of every page
+BOTTOM = PAGE_H - FOOT - FOOTER_H
+LEADING = 1.45
+PT = 25.4 / 72  # mm per point
+
+
+def line_height(size: float) -> float:
+    """The distance between two lines of text of `size` points (mm)."""
+    return round(size * PT * LEADING, 3)
+
+
+@dataclass(frozen=True)
+class Region:
+    """A graphic on a page that no text may cross (mm from the top left)."""
+
+    kind: str
+    page: int
+    x: float
+    y: float
+    w: float
+    h: float
+
+
+@dataclass
+class Layout:
+    """What the layout placed besides text: the graphic regions, and the characters it had to replace."""
+
+    regions: list[Region] = field(default_factory=list)
+    printable: fonts.Printable = field(default_factory=fonts.Printable)
+
+
+class Page(FPDF):
+    """fpdf2 with the embedded font, measured text boxes and a cursor that breaks pages."""
+
+    def __init__(self, continued: str) -> None:
+        super().__init__(orientation="portrait", unit="mm", format="A4")
+        self.layout = Layout()
+        self.continued = continued
+        self._embedded = fonts.install(self)
+        self.set_auto_page_break(auto=False)
+        self.set_margins(MARGIN, MARGIN, MARGIN)
+        self.c_margin = 0
+        self.alias_nb_pages(None)  # type: ignore[arg-type]  # a make written "{nb}" prints as written
+        self._wrapped: dict[tuple[float, str, float, bool], list[str]] = {}
+
+    def output(self, *args: Any, **kwargs: Any) -> Any:
+        """The PDF (see FPDF.output), each embedded font first cut down to the glyphs used."""
+        for font in self._embedded:
+            fonts.cut(font)
+        return super().output(*args, **kwargs)
+
+    def style(self, size: float, bold: bool = False) -> None:
+        """Set the embedded font at `size` points."""
+        self.set_font(fonts.FAMILY, "B" if bold else "", size)
+
+    def printable(self, text: str) -> str:
+        """The text as the font can draw it (see fonts.Printable)."""
+        return self.layout.printable(text)
+
+    def lines(self, width: float, text: str, size: float, bold: bool = False) -> list[str]:
+        """`text` broken into lines no wider than `width` mm at `size` points, at spaces if it can."""
+        key = (width, text, size, bold)
+        if key not in self._wrapped:
+            widths = fonts.widths("B" if bold else "")
+            per_unit = size * PT / 1000
+
+            def wide(part: str) -> float:
+                return sum(widths[ord(char)] for char in part) * per_unit
+
+            self._wrapped[key] = _wrap(self.printable(text), width, wide)
+        return self._wrapped[key]
+
+    def measure(self, width: float, text: str, size: float, bold: bool = False) -> float:
+        """The height (mm) of `text` wrapped in `width` at `size` points."""
+        return len(self.lines(width, text, size, bold)) * line_height(size)
+
+    def box(
+        self, x: float, y: float, width: float, text: str, size: float, bold: bool = False, align: str = "L"
+    ) -> float:
+        """Draw `text` wrapped in `width` from (x, y); returns the y below it."""
+        height = line_height(size)
+        self.style(size, bold)
+        for line in self.lines(width, text, size, bold):
+            shaped = self._shaping(line)
+            self.set_xy(x, y)
+            if shaped:
+                # A raised accent sits above its letter's baseline, and text extractors (poppler,
+                # pdfium) would read it as a line of its own: the line's text is given as ActualText.
+                self._out(f"/Span <</ActualText <FEFF{line.encode('utf-16-be').hex().upper()}>>> BDC")
+            self.cell(width, height, line, align=align)
+            if shaped:
+                self._out("EMC")
+            y += height
+        self._shaping("")
+        return y
+
+    def _parse_chars(
+        self,
+        text: str,
+        markdown: bool,
+        *,
+        _initial_emphasis: tuple[bool, bool, bool, bool] | None = None,
+    ) -> Iterator[Fragment]:
+        # fpdf2 starts a new fragment, shaped on its own, at every change of Unicode script, and
+        # counts a combining accent (script "Inherited") as a change: the accent then loses its
+        # letter. Certificate text is Latin and common punctuation: shape each line whole.
+        if self.text_shaping and not markdown:
+            yield Fragment(text, self._get_current_graphics_state(), self.k)
+            return
+        yield from super()._parse_chars(text, markdown, _initial_emphasis=_initial_emphasis)
+
+    def _shaping(self, text: str) -> bool:
+        # HarfBuzz places combining accents over their letters, at about twice the cost of a plain
+        # line: only text that has them is shaped.
+        wanted = fonts.needs_shaping(text)
+        if wanted != bool(self.text_shaping):
+            self.set_text_shaping(wanted)
+        return wanted
+
+    def room(self, height: float) -> None:
+        """Start a new page unless `height` mm fit below the cursor."""
+        if self.get_y() + height > BOTTOM:
+            self.new_page()
+
+    def new_page(self) -> None:
+        """A new page that names the document it continues."""
+        self.add_page()
+        self.set_xy(MARGIN, MARGIN)
+        y = self.box(MARGIN, MARGIN, CONTENT_W, self.continued, 11, bold=True)
+        self.set_xy(MARGIN, y + 3)
+
+    def draw_raw(self, operators: str) -> None:
+        """Append PDF content operators to the current page as they are."""
+        self._out(operators)
+
+    def region(self, kind: str, x: float, y: float, w: float, h: float) -> None:
+        """Record a graphic's region on the current page."""
+        self.layout.regions.append(Region(kind, self.page, x, y, w, h))
+
+    def page_lines(self, left: str) -> None:
+        """At the foot of every page: `left`, and 'Page i of n' on the right."""
+        pages = self.page
+        for page in range(1, pages + 1):
+            self.page = page
+            y = PAGE_H - FOOT - line_height(7.5)
+            self.box(MARGIN, y, CONTENT_W / 2, left, 7.5)
+            self.box(MARGIN + CONTENT_W / 2, y, CONTENT_W / 2, f"Page {page} of {pages}", 7.5, align="R")
+        self.page = pages
+
+
+def _wrap(text: str, width: float, wide: Callable[[str], float]) -> list[str]:
+    """Greedy line breaking at spaces; a word wider than the line is cut between letters."""
+    lines: list[str] = []
+    line = ""
+    for word in text.split(" "):
+        candidate = f"{line} {word}" if line else word
+        if wide(candidate) <= width:
+            line = candidate
+            continue
+        if line:
+            lines.append(line)
+        line = word
+        while wide(line) > width:
+            cut = _fits(line, width, wide)
+            lines.append(line[:cut])
+            line = line[cut:]
+    lines.append(line)
+    return lines
+
+
+def _fits(word: str, width: float, wide: Callable[[str], float]) -> int:
+    """How many characters of `word` fit in `width`, never parting a letter from its accents."""
+    cut = 1
+    for end in range(1, len(word) + 1):
+        if wide(word[:end]) > width:
+            break
+        if end == len(word) or not unicodedata.combining(word[end]):
+            cut = end
+    return max(cut, 1)
