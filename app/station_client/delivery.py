@@ -87,7 +87,10 @@ def deliver(
                 return report
             wait = backoff.delay(attempt, answer.retry_after)
             if clock() + wait - last_answer > give_up_after:
-                report.stopped = f"gave up after {give_up_after:g} s without an answer: {answer.message}"
+                asked = f" (it asked to wait {answer.retry_after:g} s)" if answer.retry_after else ""
+                report.stopped = (
+                    f"gave up after {give_up_after:g} s without an answer{asked}: {answer.message}"
+                )
                 report.pending = outbox.pending()
                 return report
             say(

@@ -146,3 +146,15 @@ def test_a_refused_station_key_stops_the_run_and_loses_nothing(outbox: Outbox) -
     assert report.stopped is not None
     assert "refused the station key" in report.stopped
     assert [q.state for q in outbox.every()] == ["pending"] * 3
+
+
+def test_a_retry_after_beyond_the_give_up_time_stops_the_run_and_says_why(outbox: Outbox) -> None:
+    slept: list[float] = []
+    report = deliver(
+        outbox, send=FakeService([Answer(Verdict.RETRY, 429, "too many", retry_after=3600, cause="429")]),
+        backoff=Backoff(), give_up_after=60, sleep=slept.append, clock=lambda: 0.0, say=lambda _line: None,
+    )  # fmt: skip
+    assert slept == [], "it does not sleep an hour"
+    assert report.stopped == "gave up after 60 s without an answer (it asked to wait 3600 s): too many"
+    assert report.failed_tries == {"429": 1}
+    assert len(report.pending) == 3
