@@ -16,7 +16,8 @@ from fpdf.enums import RenderStyle
 
 from app.certificates.chart import Box, draw_chart
 from app.certificates.facts import CaseFacts, Facts
-from app.web.formatting import kg, limit_text, ratio, signed, to_local
+from app.inspections.wording import document_title
+from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
 
 MARGIN = 15.0
 PAGE_W = 210.0
@@ -58,19 +59,17 @@ def latin1(text: str) -> str:
 
 def when(moment: datetime) -> str:
     """A time in the service's display zone: 23 Nov 2026, 15:05 WAT."""
-    local = to_local(moment)
-    return f"{local.day} {local:%b %Y, %H:%M} {local.tzname() or 'UTC'}"
+    return local_time(moment)
 
 
 def day(moment: datetime) -> str:
     """A date in the service's display zone: 23 November 2026."""
-    local = to_local(moment)
-    return f"{local.day} {local:%B %Y}"
+    return long_date(moment)
 
 
 def title(kind: str) -> str:
     """The document's title for its kind."""
-    return "Lateral Stability Certificate" if kind == "compliant" else "Lateral Stability Refusal"
+    return document_title(kind)
 
 
 def refusal_reason(case: CaseFacts) -> str:
@@ -197,9 +196,7 @@ def _verdict(pdf: FPDF, document: CertificateDocument) -> None:
     facts = document.facts
     pdf.set_font("helvetica", "B", 12)
     pdf.multi_cell(CONTENT_W, 6, latin1(facts.verdict), new_x="LMARGIN", new_y="NEXT")
-    pdf.cell(
-        CONTENT_W, 6, latin1(f"Certified maximum occupancy: {facts.occupancy}"), new_x="LMARGIN", new_y="NEXT"
-    )
+    pdf.cell(CONTENT_W, 6, latin1(facts.occupancy), new_x="LMARGIN", new_y="NEXT")
     if document.kind == "refusal":
         pdf.set_font("helvetica", "B", 9)
         pdf.cell(
@@ -241,8 +238,8 @@ def _table(pdf: FPDF, facts: Facts) -> None:
     for case in facts.cases:
         values = (
             latin1(case.label + (" *" if case.measured else "")),
-            kg(case.total_kg),
-            kg(case.rear_kg),
+            load_kg(case.total_kg),
+            load_kg(case.rear_kg),
             ratio(case.lsf),
             limit_text(),
             signed(case.variance),
