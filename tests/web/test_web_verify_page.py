@@ -12,13 +12,14 @@ from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-from playwright.sync_api import Page, expect
+from playwright.sync_api import Browser, Page, expect
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.config import get_settings
+from web.test_web_accessibility import AXE_PATH, axe_violations
 from web.webtools import REPO
 
 pytestmark = pytest.mark.browser
@@ -172,7 +173,8 @@ def test_a_tampered_qr_payload_is_called_not_genuine_first(
     title_colour = check.locator(".qr-check__title").evaluate("e => getComputedStyle(e).color")
     assert title_colour == RED
     check_box, banner_box = check.bounding_box(), page.locator("#status").bounding_box()
-    assert check_box is not None and banner_box is not None
+    assert check_box is not None
+    assert banner_box is not None
     assert check_box["y"] < banner_box["y"]
     shoot(page, "tampered", width)
     if width == 360:
@@ -185,3 +187,24 @@ def shoot(page: Page, name: str, width: int) -> None:
     if TAKE_SCREENSHOTS:
         SCREENSHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SCREENSHOTS / f"verify-{name}-{width}.png"), full_page=True)
+
+
+def test_the_verify_pages_have_no_axe_violations(
+    browser: Browser, browser_context_args: dict[str, Any], documents: dict[str, dict[str, Any]]
+) -> None:
+    if not AXE_PATH.is_file():
+        if os.environ.get("CI"):
+            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
+    page = context.new_page()
+    found: dict[str, list[dict[str, Any]]] = {}
+    valid, refusal = documents["valid"], documents["refusal"]
+    urls = {name: path_of(document["qr_url"]) for name, document in documents.items()}
+    urls["tampered"] = f"/verify/{valid['number']}?p={refusal['qr_payload']}"
+    for name, url in urls.items():
+        page.goto(url)
+        if violations := axe_violations(page, AXE_PATH):
+            found[name] = violations
+    context.close()
+    assert found == {}, found
