@@ -100,7 +100,7 @@ def test_revoke_certificate_records_the_os_user_and_the_verify_page_says_revoked
     assert [(a.action, a.actor) for a in audit][-1] == ("revoke", f"cli:{getpass.getuser()}")
     code, _out, err = run(capsys, "revoke-certificate", number, "--reason", "again")
     assert code == 2
-    assert "already revoked" in err
+    assert f"refusal {number} is already revoked" in err
     code, _out, err = run(capsys, "revoke-certificate", number, "--reason", "   ")
     assert code == 2
 

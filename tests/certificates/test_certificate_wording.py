@@ -19,6 +19,8 @@ from study_data import STUDY_READINGS
 from web.webtools import OFFICER_EMAIL, PASSWORD, hidden, sign_in
 
 from app.accounts.service import create_user
+from app.certificates.actors import Actor
+from app.certificates.service import revoke_certificate
 from app.cli import main
 from app.web.formatting import local_time, long_date
 
@@ -129,3 +131,15 @@ def test_a_refusal_is_called_a_refusal_and_times_name_their_zone(
     assert weighed in text
     assert "283.49" in text
     assert "Lateral Stability Refusal" in text
+
+
+def test_a_revoked_refusal_is_called_a_refusal_when_it_is_asked_for_again(
+    api: TestClient, session: Session
+) -> None:
+    register(api)
+    inspection_id = weigh(api)
+    body = certify(api, inspection_id)
+    revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason="Ticket forged")
+    again = api.post(f"/api/v1/inspections/{inspection_id}/certificate")
+    assert again.status_code == 409
+    assert f"refusal {body['number']} of this inspection was revoked" in again.json()["errors"][0]["message"]
