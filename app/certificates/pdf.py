@@ -16,7 +16,7 @@ from fpdf.enums import RenderStyle
 
 from app.certificates.chart import Box, draw_chart
 from app.certificates.facts import CaseFacts, Facts
-from app.inspections.wording import document_title
+from app.inspections.wording import document_kind, document_title
 from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
 
 MARGIN = 15.0
@@ -154,7 +154,9 @@ def _header(pdf: FPDF, document: CertificateDocument) -> None:
     pdf.set_font("helvetica", "B", 20)
     pdf.cell(CONTENT_W, 10, title(document.kind), new_x="LMARGIN", new_y="NEXT")
     pdf.set_font("helvetica", "", 9)
-    pdf.cell(CONTENT_W, 5, "Certificate number", new_x="LMARGIN", new_y="NEXT")
+    pdf.cell(
+        CONTENT_W, 5, f"{document_kind(document.kind).capitalize()} number", new_x="LMARGIN", new_y="NEXT"
+    )
     pdf.set_font("courier", "B", 24)
     pdf.cell(CONTENT_W, 11, document.number, new_x="LMARGIN", new_y="NEXT")
     pdf.set_font("helvetica", "", 9)

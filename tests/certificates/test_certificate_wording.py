@@ -131,6 +131,8 @@ def test_a_refusal_is_called_a_refusal_and_times_name_their_zone(
     assert weighed in text
     assert "283.49" in text
     assert "Lateral Stability Refusal" in text
+    assert f"Refusal number {number}" in text
+    assert "Certificate number" not in text
 
 
 def test_a_revoked_refusal_is_called_a_refusal_when_it_is_asked_for_again(
