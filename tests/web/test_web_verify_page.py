@@ -138,6 +138,7 @@ def test_each_banner_says_what_the_paper_means_above_the_fold(
         expect(banner).to_have_class(f"status {tone}")
         expect(page.locator("#headline")).to_contain_text(headline)
         assert page.locator("#headline").inner_text().startswith(headline)
+        assert page.title().startswith(f"{page.locator('#headline').inner_text()}, {document['number']} ")
         assert banner_colour(page) == colour, name
         expect(banner.locator(".status__occupancy")).to_have_text(line)
         expect(page.locator("#registration")).to_have_text(document["registration_number"])
