@@ -184,6 +184,7 @@ def cmd_demo(_args: argparse.Namespace) -> int:
     """Load the study's vehicle and inspection."""
     from app.demo import STUDY_REGISTRATION, load_demo
     from app.migrate import upgrade
+    from app.web.formatting import load_kg
 
     upgrade(get_engine())
     with get_sessionmaker()() as session:
@@ -197,7 +198,7 @@ def cmd_demo(_args: argparse.Namespace) -> int:
     for case in inspection.loading_cases:
         verdict = "C" if case.compliant else "NC"
         print(
-            f"{case.occupants:>9} {case.total_kg:>9.1f} {case.rear_kg:>8.2f} {case.lsf:>6.3f} "
+            f"{case.occupants:>9} {load_kg(case.total_kg):>9} {load_kg(case.rear_kg):>8} {case.lsf:>6.3f} "
             f"{case.variance:>+8.3f}  {verdict}"
         )
     print(f"compliant: {inspection.compliant}; max compliant occupants: {inspection.max_compliant_occupants}")

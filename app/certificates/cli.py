@@ -37,9 +37,10 @@ def load_keys(source: str | None) -> dict[str, Any]:
 
 def cmd_verify(args: argparse.Namespace) -> int:
     """Check a QR payload or verify URL offline; exit 1 with the reason when it is not genuine."""
-    from app.certificates.facts import occupancy_words
     from app.certificates.records import verify_base
     from app.certificates.signing import PayloadRefused, verify_input
+    from app.inspections.wording import document_kind, occupancy_sentence
+    from app.web.formatting import long_date
 
     try:
         verified = verify_input(args.payload, load_keys(args.keys))
@@ -48,11 +49,13 @@ def cmd_verify(args: argparse.Namespace) -> int:
         return 1
     claims = verified.claims
     print(f"GENUINE: signed by key {verified.kid}")
-    print(f"certificate {claims.number} for {claims.registration}")
-    print(f"verdict {claims.verdict}; certified maximum occupancy: {occupancy_words(claims.max_occupants)}")
-    print(f"issued {claims.issued.isoformat()}, expires {claims.expires.isoformat()}")
+    compliant = claims.verdict == "C"
+    kind = document_kind("compliant" if compliant else "refusal")
+    print(f"{kind} {claims.number} for {claims.registration}")
+    print(occupancy_sentence(compliant, claims.max_occupants))
+    print(f"issued {long_date(claims.issued)}, valid until {long_date(claims.expires)}")
     if claims.expires < date.today():
-        print("note: this certificate has EXPIRED")
+        print(f"note: this {kind} has EXPIRED")
     print(f"revocation and replacement show online only: {verify_base(get_settings())}/{claims.number}")
     return 0
 
@@ -61,15 +64,14 @@ def cmd_issue(args: argparse.Namespace) -> int:
     """Issue the certificate of an inspection as an administrator."""
     from app.certificates.actors import Actor
     from app.certificates.service import issue_certificate
+    from app.inspections.wording import issued_message
 
     with get_sessionmaker()() as session:
         issued = issue_certificate(
             session, inspection_id=args.inspection_id, actor=Actor.of_cli(), settings=get_settings()
         )
         certificate = issued.certificate
-        print(
-            f"{'issued' if issued.created else 'already issued'}: {certificate.number} ({certificate.kind})"
-        )
+        print(issued_message(certificate.kind, certificate.number, issued.created))
     return 0
 
 
@@ -90,12 +92,13 @@ def cmd_revoke(args: argparse.Namespace) -> int:
     """Revoke a certificate for good, with a reason, recorded as done by cli:<os user>."""
     from app.certificates.actors import Actor
     from app.certificates.service import revoke_certificate
+    from app.inspections.wording import revoked_message
 
     with get_sessionmaker()() as session:
         certificate = revoke_certificate(
             session, number=args.number, actor=Actor.of_cli(), reason=args.reason
         )
-        print(f"revoked {certificate.number}: {args.reason}")
+        print(f"{revoked_message(certificate.kind, certificate.number)} Reason: {args.reason}")
     return 0
 
 

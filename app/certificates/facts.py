@@ -15,7 +15,7 @@ from sqlalchemy.orm import Session
 
 from app.accounts.models import User
 from app.inspections.models import Inspection
-from app.inspections.wording import passengers, verdict_sentence
+from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
 
 WHEEL_NAMES = {
@@ -24,15 +24,6 @@ WHEEL_NAMES = {
     "right_rear_kg": "Right rear wheel",
     "overall_kg": "Overall weight",
 }
-
-
-def occupancy_words(max_compliant_occupants: int) -> str:
-    """The certified maximum occupancy in words: 'driver only', 'driver and two passengers'."""
-    if max_compliant_occupants <= 0:
-        return "none (not stable even with the driver alone)"
-    if max_compliant_occupants == 1:
-        return "driver only"
-    return f"driver and {passengers(max_compliant_occupants - 1)}"
 
 
 @dataclass(frozen=True)
@@ -110,10 +101,26 @@ class Facts:
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> Facts:
-        """The facts back from their stored JSON."""
+        """The facts back from their stored JSON; the verdict and occupancy worded as everywhere today."""
+        # The stored sentences are the wording of the day of issue (and stay in the stored PDF); the
+        # pages, the API and the CLI word the frozen cases afresh so that one fact reads one way.
         inspection = dict(data["inspection"])
         inspection["weighed_at"] = datetime.fromisoformat(inspection["weighed_at"])
         inspection["occupant_mass_kg"] = Decimal(inspection["occupant_mass_kg"])
+        cases = tuple(
+            CaseFacts(
+                occupants=c["occupants"],
+                label=c["label"],
+                total_kg=Decimal(c["total_kg"]),
+                rear_kg=Decimal(c["rear_kg"]),
+                lsf=Decimal(c["lsf"]),
+                variance=Decimal(c["variance"]),
+                compliant=c["compliant"],
+                measured=c["measured"],
+            )
+            for c in data["cases"]
+        )
+        best = data["max_compliant_occupants"]
         return cls(
             authority=data["authority"],
             vehicle=VehicleFacts(**data["vehicle"]),
@@ -128,23 +135,11 @@ class Facts:
                 )
                 for r in data["readings"]
             ),
-            cases=tuple(
-                CaseFacts(
-                    occupants=c["occupants"],
-                    label=c["label"],
-                    total_kg=Decimal(c["total_kg"]),
-                    rear_kg=Decimal(c["rear_kg"]),
-                    lsf=Decimal(c["lsf"]),
-                    variance=Decimal(c["variance"]),
-                    compliant=c["compliant"],
-                    measured=c["measured"],
-                )
-                for c in data["cases"]
-            ),
+            cases=cases,
             compliant=data["compliant"],
-            max_compliant_occupants=data["max_compliant_occupants"],
-            verdict=data["verdict"],
-            occupancy=data["occupancy"],
+            max_compliant_occupants=best,
+            verdict=verdict_sentence([(c.occupants, c.compliant) for c in cases], best),
+            occupancy=occupancy_sentence(data["compliant"], best),
         )
 
 
@@ -234,5 +229,5 @@ def facts_of(session: Session, inspection: Inspection, *, authority: str) -> Fac
         verdict=verdict_sentence(
             [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
         ),
-        occupancy=occupancy_words(inspection.max_compliant_occupants),
+        occupancy=occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
     )

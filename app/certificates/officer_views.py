@@ -12,11 +12,12 @@ from app.accounts.sessions import set_flash
 from app.certificates.actors import Actor
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
-from app.certificates.records import certificate_facts, certificate_status, get_certificate
+from app.certificates.records import get_certificate
 from app.certificates.service import issue_certificate, revoke_certificate
-from app.certificates.views import HEADLINES
+from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
+from app.inspections.wording import document_kind, issued_message, revoked_message
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.templating import render
 
@@ -28,24 +29,9 @@ def certificate_page(
     request: Request, certificate: Certificate, *, errors: dict[str, str] | None = None, reason: str = ""
 ) -> Response:
     """The certificate as the public sees it, with the officer's download link and the admin's revoke form."""
-    status = certificate_status(certificate)
-    facts = certificate_facts(certificate)
-    return render(
-        request,
-        "certificates/verify.html",
-        {
-            "certificate": certificate,
-            "facts": facts,
-            "rows": facts.cases,
-            "status": status,
-            "headline": HEADLINES[status],
-            "payload": None,
-            "officer": True,
-            "errors": errors or {},
-            "values": {"reason": reason},
-        },
-        status_code=422 if errors else 200,
-    )
+    context = document_context(certificate)
+    context.update(officer=True, errors=errors or {}, values={"reason": reason})
+    return render(request, "certificates/verify.html", context, status_code=422 if errors else 200)
 
 
 @router.post("/inspections/{inspection_id}/certificate")
@@ -59,9 +45,7 @@ def issue_from_page(inspection_id: int, session: SessionDep, login: PostLogin) -
         set_flash(session, login, error.message.split(": ", 1)[-1])
         return RedirectResponse(f"/inspections/{inspection_id}", status_code=303)
     number = issued.certificate.number
-    set_flash(
-        session, login, f"Certificate {number} issued." if issued.created else f"Already certified: {number}."
-    )
+    set_flash(session, login, issued_message(issued.certificate.kind, number, issued.created))
     return RedirectResponse(f"/certificates/{number}", status_code=303)
 
 
@@ -93,8 +77,10 @@ def revoke_from_page(
     reason = str(form.get("reason") or "")
     if not reason.strip():
         return certificate_page(
-            request, certificate, errors={"reason": "Enter the reason for revoking this certificate"}
+            request,
+            certificate,
+            errors={"reason": f"Enter the reason for revoking this {document_kind(certificate.kind)}"},
         )
     revoke_certificate(session, number=certificate.number, actor=Actor.of_user(login.user), reason=reason)
-    set_flash(session, login, f"Certificate {certificate.number} revoked.")
+    set_flash(session, login, revoked_message(certificate.kind, certificate.number))
     return RedirectResponse(f"/certificates/{certificate.number}", status_code=303)

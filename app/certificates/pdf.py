@@ -16,7 +16,8 @@ import segno
 from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layout, Page, line_height
-from app.web.formatting import kg, limit_text, ratio, signed, to_local
+from app.inspections.wording import document_kind, document_title
+from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
 
 QR_BOX = 52.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.8 mm modules
 QR_QUIET = 4  # modules of quiet zone on each side, as the QR standard asks
@@ -52,19 +53,17 @@ class CertificateDocument:
 
 def when(moment: datetime) -> str:
     """A time in the service's display zone: 23 Nov 2026, 15:05 WAT."""
-    local = to_local(moment)
-    return f"{local.day} {local:%b %Y, %H:%M} {local.tzname() or 'UTC'}"
+    return local_time(moment)
 
 
 def day(moment: datetime) -> str:
     """A date in the service's display zone: 23 November 2026."""
-    local = to_local(moment)
-    return f"{local.day} {local:%B %Y}"
+    return long_date(moment)
 
 
 def title(kind: str) -> str:
     """The document's title for its kind."""
-    return "Lateral Stability Certificate" if kind == "compliant" else "Lateral Stability Refusal"
+    return document_title(kind)
 
 
 def refusal_reason(case: CaseFacts) -> str:
@@ -108,7 +107,7 @@ def _header(pdf: Page, document: CertificateDocument) -> None:
     validity = "Valid" if document.kind == "compliant" else "Refusal stands"
     y = pdf.box(MARGIN, MARGIN, left_w, document.facts.authority, 11, bold=True)
     y = pdf.box(MARGIN, y, left_w, title(document.kind), 20, bold=True)
-    y = pdf.box(MARGIN, y, left_w, "Certificate number", 9)
+    y = pdf.box(MARGIN, y, left_w, f"{document_kind(document.kind).capitalize()} number", 9)
     pdf.set_font("courier", "B", 22)  # the number is ASCII by construction (numbers.py)
     pdf.set_xy(MARGIN, y)
     pdf.cell(left_w, line_height(22), document.number)
@@ -208,7 +207,7 @@ def _verdict(pdf: Page, document: CertificateDocument) -> None:
     facts = document.facts
     blocks: list[tuple[str, float, bool]] = [
         (facts.verdict, 12, True),
-        (f"Certified maximum occupancy: {facts.occupancy}", 12, True),
+        (facts.occupancy, 12, True),
     ]
     if document.kind == "refusal":
         blocks.append(("Reasons for refusal (cases that fail and by how much):", 9, True))
@@ -223,8 +222,8 @@ def _verdict(pdf: Page, document: CertificateDocument) -> None:
 def _row(case: CaseFacts) -> tuple[str, ...]:
     return (
         case.label + (" *" if case.measured else ""),
-        kg(case.total_kg),
-        kg(case.rear_kg),
+        load_kg(case.total_kg),
+        load_kg(case.rear_kg),
         ratio(case.lsf),
         limit_text(),
         signed(case.variance),

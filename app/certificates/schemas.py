@@ -29,7 +29,10 @@ class CertificateOut(BaseModel):
     inspection_id: int
     compliant: bool
     max_compliant_occupants: int
-    max_occupancy: str = Field(description="The certified maximum occupancy in words, e.g. 'driver only'.")
+    max_occupancy: str = Field(
+        description="The occupancy sentence, as on the page and the PDF, e.g. 'Certified for the driver "
+        "and up to 2 passengers' or 'This vehicle must not carry passengers'."
+    )
     verdict: str
     issued_at: datetime
     expires_at: datetime

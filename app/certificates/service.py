@@ -31,6 +31,7 @@ from app.db import utcnow
 from app.errors import Conflict, InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
+from app.inspections.wording import document_kind
 
 
 @dataclass(frozen=True)
@@ -70,21 +71,22 @@ def issue_certificate(
         session.rollback()
         if certificate_status(current, now) == "expired":
             raise Conflict(
-                f"inspection_id: certificate {current.number} of this inspection has expired; "
-                "weigh the vehicle again",
+                f"inspection_id: {document_kind(current.kind)} {current.number} of this inspection "
+                "has expired; weigh the vehicle again",
                 field="inspection_id",
                 rule="expired",
             )
         return Issued(certificate=current, created=False)
-    revoked = session.scalar(
-        select(Certificate.number)
+    revoked = session.execute(
+        select(Certificate.number, Certificate.kind)
         .where(Certificate.inspection_id == inspection.id, Certificate.revocation != None)  # noqa: E711
         .limit(1)
-    )
+    ).first()
     if revoked is not None:
         session.rollback()
         raise Conflict(
-            f"inspection_id: certificate {revoked} of this inspection was revoked; weigh the vehicle again",
+            f"inspection_id: {document_kind(revoked.kind)} {revoked.number} of this inspection was revoked; "
+            "weigh the vehicle again",
             field="inspection_id",
             rule="revoked",
         )
@@ -135,7 +137,7 @@ def reissue_certificate(
     if status != "issued":
         session.rollback()
         raise Conflict(
-            f"number: certificate {old.number} is {status}; only a current one can be reissued",
+            f"number: {document_kind(old.kind)} {old.number} is {status}; only a current one can be reissued",
             field="number",
             rule=status,
         )
@@ -165,7 +167,9 @@ def revoke_certificate(
     certificate = get_certificate(session, number)
     if certificate.revocation is not None:
         raise Conflict(
-            f"number: certificate {certificate.number} is already revoked", field="number", rule="revoked"
+            f"number: {document_kind(certificate.kind)} {certificate.number} is already revoked",
+            field="number",
+            rule="revoked",
         )
     at = now or utcnow()
     session.add(
@@ -183,7 +187,9 @@ def revoke_certificate(
     except IntegrityError as error:  # revoked at the same moment by someone else
         session.rollback()
         raise Conflict(
-            f"number: certificate {certificate.number} is already revoked", field="number", rule="revoked"
+            f"number: {document_kind(certificate.kind)} {certificate.number} is already revoked",
+            field="number",
+            rule="revoked",
         ) from error
     session.refresh(certificate)
     return certificate

@@ -2,24 +2,62 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.certificates.keys import published_keys
+from app.certificates.models import Certificate
 from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.records import certificate_facts, certificate_status, find_certificate, verify_base
-from app.certificates.verification import check_payload
+from app.certificates.verification import PayloadCheck, check_payload
 from app.config import get_settings
+from app.inspections import wording
 from app.web.deps import SessionDep
+from app.web.formatting import long_date
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
 
-HEADLINES = {"issued": "VALID", "expired": "EXPIRED", "revoked": "REVOKED", "superseded": "SUPERSEDED"}
 NUMBER_HINT = "Enter the certificate number as printed, like TRK-2026-000123-K."
+
+
+def status_since(certificate: Certificate, status: str) -> str | None:
+    """The date a document stopped counting (revoked, replaced, expired), as printed."""
+    if status == "revoked" and certificate.revocation is not None:
+        return long_date(certificate.revocation.revoked_at)
+    if status == "superseded" and certificate.superseded_by is not None:
+        return long_date(certificate.superseded_by.issued_at)
+    if status == "expired":
+        return long_date(certificate.expires_at)
+    return None
+
+
+def document_context(certificate: Certificate, payload: PayloadCheck | None = None) -> dict[str, Any]:
+    """What verify.html shows: the banner (headline, tone, dates), the QR check and the frozen facts."""
+    status = certificate_status(certificate)
+    facts = certificate_facts(certificate)
+    kind = certificate.kind
+    newer = certificate.superseded_by
+    return {
+        "certificate": certificate,
+        "facts": facts,
+        "rows": facts.cases,
+        "status": status,
+        "kind_word": wording.document_kind(kind),
+        "title_text": wording.document_title(kind),
+        "headline": wording.status_headline_on(kind, status, status_since(certificate, status)),
+        "tone": wording.status_tone(kind, status),
+        "valid_until": long_date(certificate.expires_at),
+        "issued_on": long_date(certificate.issued_at),
+        "newer_word": wording.document_kind(newer.kind) if newer is not None else None,
+        "payload": payload,
+        "qr_genuine": wording.QR_GENUINE,
+        "qr_not_genuine": wording.QR_NOT_GENUINE,
+        "qr_reason": wording.qr_reason(payload.reason) if payload is not None else None,
+    }
 
 
 @router.get("/verify")
@@ -52,21 +90,9 @@ def verify_page(
         str | None, Query(max_length=2000, description="The signed payload from the QR code.")
     ] = None,
 ) -> Response:
-    """The certificate's status in large letters, the vehicle and the verdict; 404 for an unknown number."""
+    """One banner with the status, the registration and the occupancy; the QR check; then the details."""
     certificate = find_certificate(session, number)
     if certificate is None:
         return render(request, "certificates/not_found.html", {"number": number}, status_code=404)
-    status = certificate_status(certificate)
     payload = check_payload(p, published_keys(session, get_settings()), certificate) if p else None
-    return render(
-        request,
-        "certificates/verify.html",
-        {
-            "certificate": certificate,
-            "facts": certificate_facts(certificate),
-            "status": status,
-            "headline": HEADLINES[status],
-            "payload": payload,
-            "rows": certificate_facts(certificate).cases,
-        },
-    )
+    return render(request, "certificates/verify.html", document_context(certificate, payload))

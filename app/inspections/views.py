@@ -19,7 +19,7 @@ from app.errors import NotFound, ServiceError
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
-from app.inspections.wording import certified_occupancy, verdict_sentence
+from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
@@ -158,7 +158,7 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
         "verdict": verdict_sentence(
             [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
         ),
-        "occupancy": certified_occupancy(inspection.max_compliant_occupants),
+        "occupancy": occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
         "chart": lsf_chart(points),
     }
 

@@ -1,38 +1,29 @@
-"""The verdict in words a non-engineer understands, from the stored loading-case verdicts."""
+"""Every fact in words, one function each: used by the pages, the PDF, the verify page, the CLI and the API.
+
+Numbers follow the GOV.UK style: "one", then numerals (2, 3, ... 12).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Literal
 
-_NUMBERS = (
-    "no",
-    "one",
-    "two",
-    "three",
-    "four",
-    "five",
-    "six",
-    "seven",
-    "eight",
-    "nine",
-    "ten",
-    "eleven",
-    "twelve",
-)
+DocumentKind = Literal["compliant", "refusal"]
+DocumentStatus = Literal["issued", "revoked", "superseded", "expired"]
 
 
 def number_word(count: int) -> str:
-    """one, two, ... twelve; larger counts as digits."""
-    return _NUMBERS[count] if 0 <= count < len(_NUMBERS) else str(count)
+    """'one' for 1, numerals otherwise: one, 2, 3 ... (GOV.UK style)."""
+    return "one" if count == 1 else str(count)
 
 
 def passengers(count: int) -> str:
-    """'one passenger', 'two passengers'."""
+    """'one passenger', '2 passengers'."""
     return f"{number_word(count)} passenger{'' if count == 1 else 's'}"
 
 
 def occupancy(occupants: int) -> str:
-    """A loading case in words: 'the driver alone', 'the driver and two passengers'."""
+    """One loading case in words: 'the driver alone', 'the driver and 2 passengers'."""
     if occupants <= 0:
         return "nobody aboard"
     if occupants == 1:
@@ -40,13 +31,24 @@ def occupancy(occupants: int) -> str:
     return f"the driver and {passengers(occupants - 1)}"
 
 
-def certified_occupancy(max_compliant_occupants: int) -> str:
-    """The certified maximum occupancy: 'compliant with the driver alone'."""
+def occupancy_limit(max_compliant_occupants: int) -> str:
+    """The most a vehicle may carry: 'the driver alone', 'the driver and up to 2 passengers'."""
+    if max_compliant_occupants <= 1:
+        return "the driver alone"
+    return f"the driver and up to {passengers(max_compliant_occupants - 1)}"
+
+
+def occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
+    """The occupancy sentence: 'Certified for the driver and up to 2 passengers', or what a refusal allows."""
+    if compliant and max_compliant_occupants >= 1:
+        if max_compliant_occupants == 1:
+            return "Certified for the driver alone: no passengers"
+        return f"Certified for {occupancy_limit(max_compliant_occupants)}"
     if max_compliant_occupants <= 0:
-        return "not compliant even with the driver alone"
+        return "This vehicle must not be used: it is unstable even with the driver alone"
     if max_compliant_occupants == 1:
-        return "compliant with the driver alone"
-    return f"compliant with the driver and up to {passengers(max_compliant_occupants - 1)}"
+        return "This vehicle must not carry passengers"
+    return f"This vehicle may carry {occupancy_limit(max_compliant_occupants)}, no more"
 
 
 def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants: int) -> str:
@@ -59,8 +61,7 @@ def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants:
     failing = [n for n, ok in occupied if not ok]
     if best == 0:
         return "Not compliant. Laterally unstable even with the driver alone."
-    reach = occupancy(best) if best == 1 else f"the driver and up to {passengers(best - 1)}"
-    stable = f"Laterally stable with {reach}"
+    stable = f"Laterally stable with {occupancy_limit(best)}"
     if not failing:
         return f"Not compliant. {stable}; unstable when empty."
     unstable = f"the driver and {passengers(min(failing) - 1)}"
@@ -70,3 +71,62 @@ def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants:
     else:
         unstable = " or ".join(occupancy(n) for n in failing)
     return f"Not compliant. {stable}; unstable with {unstable}."
+
+
+def document_kind(kind: str) -> str:
+    """What the document is called in a sentence: 'certificate' or 'refusal'."""
+    return "certificate" if kind == "compliant" else "refusal"
+
+
+def document_title(kind: str) -> str:
+    """The document's title: 'Lateral Stability Certificate' or 'Lateral Stability Refusal'."""
+    return "Lateral Stability Certificate" if kind == "compliant" else "Lateral Stability Refusal"
+
+
+def issued_message(kind: str, number: str, created: bool) -> str:
+    """The message after asking for a document: 'Refusal TRK-... issued.' or 'Already issued: ...'."""
+    name = document_kind(kind).capitalize()
+    return f"{name} {number} issued." if created else f"Already issued: {document_kind(kind)} {number}."
+
+
+def revoked_message(kind: str, number: str) -> str:
+    """The message after revoking: 'Certificate TRK-... revoked.'."""
+    return f"{document_kind(kind).capitalize()} {number} revoked."
+
+
+def status_headline(kind: str, status: str) -> str:
+    """The verify banner's headline: VALID CERTIFICATE, NOT CERTIFIED: refusal, REVOKED, EXPIRED..."""
+    if status == "issued":
+        return "VALID CERTIFICATE" if kind == "compliant" else "NOT CERTIFIED: refusal"
+    return status.upper()
+
+
+def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked", "lapsed"]:
+    """The banner's colour: green only for a certificate in force; red refused/revoked; grey lapsed."""
+    if status == "issued":
+        return "valid" if kind == "compliant" else "refused"
+    return "revoked" if status == "revoked" else "lapsed"
+
+
+QR_GENUINE = "The QR code is genuine"
+QR_NOT_GENUINE = "The QR code is NOT genuine: do not rely on this paper"
+
+
+def status_headline_on(kind: str, status: str, since: str | None) -> str:
+    """The headline with its date for a lapsed document: 'REVOKED on 3 December 2026'."""
+    headline = status_headline(kind, status)
+    return f"{headline} on {since}" if since and status != "issued" else headline
+
+
+_QR_REASONS = {
+    "bad_signature": "its content was changed, or it was not signed by the issuing authority",
+    "unknown_key": "it was not signed with any key of the issuing authority",
+    "unsupported_algorithm": "it was not signed the way the issuing authority signs",
+    "malformed": "it is damaged or is not a code the issuing authority makes",
+    "tampered": "it was signed for a different document from the one on record under this number",
+}
+
+
+def qr_reason(reason: str) -> str:
+    """Why a QR code is not genuine, in words without key ids or codes."""
+    return _QR_REASONS.get(reason, "its signature does not check out")

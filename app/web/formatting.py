@@ -1,4 +1,4 @@
-"""How figures and times are printed on the pages: kg to 0.1, ratios to 3 decimals, local times."""
+"""How figures, dates and times are printed everywhere (pages, PDF, CLI): one function per kind of figure."""
 
 from __future__ import annotations
 
@@ -21,8 +21,16 @@ def fixed(value: Decimal | Fraction | float, places: int) -> str:
 
 
 def kg(value: Decimal | Fraction | float, places: int = 1) -> str:
-    """A weight in kg, to 0.1 kg by default."""
+    """A weight in kg, to 0.1 kg by default (averaged readings)."""
     return fixed(value, places)
+
+
+LOAD_PLACES = 2  # the API gives loading-case weights to 0.01 kg; every page and the PDF print the same
+
+
+def load_kg(value: Decimal | Fraction | float) -> str:
+    """A loading case's total or rear weight, to 0.01 kg as the API gives it: 283.49."""
+    return fixed(value, LOAD_PLACES)
 
 
 def ratio(value: Decimal | Fraction | float) -> str:
@@ -61,8 +69,15 @@ def to_local(moment: datetime) -> datetime:
 
 
 def local_time(moment: datetime) -> str:
-    """A time as officers read it: 23 Nov 2026, 14:05."""
-    return to_local(moment).strftime("%d %b %Y, %H:%M").lstrip("0")
+    """A time in the display zone, the zone named: 23 Nov 2026, 14:05 WAT."""
+    local = to_local(moment)
+    return f"{local.day} {local:%b %Y, %H:%M} {local.tzname() or 'UTC'}"
+
+
+def long_date(moment: datetime | date) -> str:
+    """A date as printed on documents (validity, revocation): 1 December 2027, in the display zone."""
+    local = to_local(moment) if isinstance(moment, datetime) else moment
+    return f"{local.day} {local:%B %Y}"
 
 
 def day_bounds(day: date) -> tuple[datetime, datetime]:

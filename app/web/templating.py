@@ -10,6 +10,7 @@ from starlette.requests import Request
 from starlette.responses import HTMLResponse
 from starlette.templating import Jinja2Templates
 
+from app.config import get_settings
 from app.stability import case_label
 from app.web import formatting
 
@@ -28,6 +29,8 @@ _env.filters.update(
     ratio=formatting.ratio,
     signed=formatting.signed,
     local_time=formatting.local_time,
+    load_kg=formatting.load_kg,
+    long_date=formatting.long_date,
 )
 _env.globals.update(service_name=SERVICE_NAME, limit_text=formatting.limit_text, case_label=case_label)
 templates = Jinja2Templates(env=_env)
@@ -47,6 +50,7 @@ def render(
         "user": login.user if login else None,
         "csrf_token": login.csrf_token if login else "",
         "flash": getattr(request.state, "flash", None),
+        "issuing_authority": get_settings().issuing_authority,
         "errors": {},
         "values": {},
     }

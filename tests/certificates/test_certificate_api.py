@@ -15,13 +15,13 @@ from app.stations.service import create_station
 NUMBER = re.compile(r"^TRK-\d{4}-\d{6}-[A-Z]$")
 
 
-def test_the_study_vehicle_gets_a_refusal_with_driver_only_occupancy(api: TestClient) -> None:
+def test_the_study_vehicle_gets_a_refusal_that_must_not_carry_passengers(api: TestClient) -> None:
     body = study_certificate(api)
     assert NUMBER.match(body["number"])
     assert is_valid_number(body["number"])
     assert body["number"][:15] == f"TRK-{datetime.now(UTC).year}-000001"
     assert (body["kind"], body["status"], body["compliant"]) == ("refusal", "issued", False)
-    assert body["max_occupancy"] == "driver only"
+    assert body["max_occupancy"] == "This vehicle must not carry passengers"
     assert body["verdict"] == (
         "Not compliant. Laterally stable with the driver alone; "
         "unstable with the driver and one or more passengers."
@@ -58,7 +58,10 @@ def test_a_new_inspection_supersedes_the_old_certificate_and_an_older_one_cannot
     old_inspection = weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS)
     new_inspection = weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS)
     old = certify(api, old_inspection)
-    assert (old["kind"], old["max_occupancy"]) == ("compliant", "driver and one passenger")
+    assert (old["kind"], old["max_occupancy"]) == (
+        "compliant",
+        "Certified for the driver and up to one passenger",
+    )
     new = certify(api, new_inspection)
     assert new["supersedes"] == old["number"]
     again = api.get(f"/api/v1/certificates/{old['number']}").json()

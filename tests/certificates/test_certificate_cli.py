@@ -5,6 +5,7 @@ from __future__ import annotations
 import getpass
 import json
 from collections.abc import Iterator
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +20,7 @@ from app import config
 from app.certificates.keys import kid_of, okp_key, private_pem
 from app.certificates.models import CertificateAudit, SigningKey
 from app.cli import main
+from app.web.formatting import long_date
 
 
 def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
@@ -40,8 +42,10 @@ def test_verify_accepts_the_qr_url_against_a_saved_key_file(
     code, out, _err = run(capsys, "verify", issued["qr_url"], "--keys", str(keys))
     assert code == 0
     assert f"GENUINE: signed by key {issued['key_id']}" in out
-    assert f"certificate {issued['number']} for BDG 252 QH" in out
-    assert "verdict NC; certified maximum occupancy: driver only" in out
+    assert f"refusal {issued['number']} for BDG 252 QH" in out
+    assert "\nThis vehicle must not carry passengers\n" in out
+    issued_at, expires_at = (datetime.fromisoformat(issued[k]) for k in ("issued_at", "expires_at"))
+    assert f"issued {long_date(issued_at)}, valid until {long_date(expires_at)}\n" in out
 
 
 def test_verify_refuses_a_flipped_character_an_unknown_key_and_a_swapped_number(
@@ -71,22 +75,32 @@ def test_verify_refuses_a_flipped_character_an_unknown_key_and_a_swapped_number(
 
 
 def test_revoke_certificate_records_the_os_user_and_the_verify_page_says_revoked_at_once(
-    issued: dict[str, Any], client: TestClient, session: Session, capsys: pytest.CaptureFixture[str]
+    issued: dict[str, Any],
+    api: TestClient,
+    client: TestClient,
+    session: Session,
+    capsys: pytest.CaptureFixture[str],
 ) -> None:
     number = issued["number"]
-    assert client.get(f"/verify/{number}").text.count("VALID") >= 1
+    assert (
+        '<h1 class="status__headline" id="headline">NOT CERTIFIED: refusal</h1>'
+        in client.get(f"/verify/{number}").text
+    )
     code, out, _err = run(capsys, "revoke-certificate", number, "--reason", "Scale found out of calibration")
     assert code == 0
-    assert f"revoked {number}" in out
+    assert f"Refusal {number} revoked. Reason: Scale found out of calibration" in out
     page = client.get(f"/verify/{number}")
     assert page.status_code == 200
-    assert "<h1>REVOKED</h1>" in page.text
+    revoked_at = datetime.fromisoformat(
+        api.get(f"/api/v1/certificates/{number}").json()["revocation"]["revoked_at"]
+    )
+    assert f'id="headline">REVOKED on {long_date(revoked_at)}</h1>' in page.text
     assert "Scale found out of calibration" in page.text
     audit = session.scalars(select(CertificateAudit).order_by(CertificateAudit.id)).all()
     assert [(a.action, a.actor) for a in audit][-1] == ("revoke", f"cli:{getpass.getuser()}")
     code, _out, err = run(capsys, "revoke-certificate", number, "--reason", "again")
     assert code == 2
-    assert "already revoked" in err
+    assert f"refusal {number} is already revoked" in err
     code, _out, err = run(capsys, "revoke-certificate", number, "--reason", "   ")
     assert code == 2
 

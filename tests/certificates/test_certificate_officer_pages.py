@@ -29,15 +29,16 @@ def issue_from_page(api: TestClient, session: Session, role: str) -> tuple[str, 
     return issued.headers["location"], token
 
 
-def test_an_officer_issues_a_certificate_and_downloads_its_pdf(api: TestClient, session: Session) -> None:
+def test_an_officer_issues_a_refusal_and_downloads_its_pdf(api: TestClient, session: Session) -> None:
     location, _token = issue_from_page(api, session, "officer")
+    number = location.rsplit("/", 1)[1]
     page = api.get(location)
     assert page.status_code == 200
-    assert "Certificate TRK-" in page.text
-    assert "issued." in page.text
-    assert "<h1>VALID</h1>" in page.text
+    assert f"<p>Refusal {number} issued.</p>" in page.text
+    assert "Certificate TRK-" not in page.text
+    assert 'id="headline">NOT CERTIFIED: refusal</h1>' in page.text
     assert "Download the PDF" in page.text
-    assert "Revoke this certificate" not in page.text
+    assert "Revoke this" not in page.text
     pdf = api.get(f"{location}/pdf")
     assert pdf.status_code == 200
     assert pdf.content.startswith(b"%PDF-")
@@ -57,16 +58,18 @@ def test_an_admin_revokes_with_a_reason_and_the_public_page_says_revoked(
 ) -> None:
     location, token = issue_from_page(api, session, "admin")
     number = location.rsplit("/", 1)[1]
-    assert "Revoke this certificate" in api.get(location).text
+    assert "Revoke this refusal" in api.get(location).text
     missing = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "  "})
     assert missing.status_code == 422
-    assert "Enter the reason" in missing.text
+    assert "Enter the reason for revoking this refusal" in missing.text
     done = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "Forged weighbridge ticket"})
     assert done.status_code == 200
-    assert "<h1>REVOKED</h1>" in done.text
+    assert f"<p>Refusal {number} revoked.</p>" in done.text
+    assert 'id="headline">REVOKED on ' in done.text
     api.cookies.clear()
     public = api.get(f"/verify/{number}")
-    assert "<h1>REVOKED</h1>" in public.text
+    assert 'id="headline">REVOKED on ' in public.text
+    assert 'class="status status--revoked"' in public.text
     assert "Forged weighbridge ticket" in public.text
     assert "Download the PDF" not in public.text
 
@@ -75,4 +78,4 @@ def test_an_officer_cannot_revoke(api: TestClient, session: Session) -> None:
     location, token = issue_from_page(api, session, "officer")
     refused = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "I would like to"})
     assert refused.status_code == 403
-    assert "<h1>VALID</h1>" in api.get(location).text
+    assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text

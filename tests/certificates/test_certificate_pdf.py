@@ -70,14 +70,14 @@ def test_the_refusal_reads_like_table_4_with_the_verdict_in_words(
         "Standard (max)",
         "Variance",
         "Result",
-        "None 359.0 250.0 0.696 2/3 (0.667) -0.030 NC",
-        "Driver 431.0 283.5 0.658 2/3 (0.667) +0.009 C",
-        "Driver + 1 passenger 503.0 342.2 0.680 2/3 (0.667) -0.014 NC",
-        "Driver + 2 passengers 575.0 400.9 0.697 2/3 (0.667) -0.031 NC",
-        "Driver + 3 passengers 647.0 459.6 0.710 2/3 (0.667) -0.044 NC",
+        "None 359.00 250.00 0.696 2/3 (0.667) -0.030 NC",
+        "Driver 431.00 283.49 0.658 2/3 (0.667) +0.009 C",
+        "Driver + 1 passenger 503.00 342.18 0.680 2/3 (0.667) -0.014 NC",
+        "Driver + 2 passengers 575.00 400.87 0.697 2/3 (0.667) -0.031 NC",
+        "Driver + 3 passengers 647.00 459.56 0.710 2/3 (0.667) -0.044 NC",
         "Not compliant. Laterally stable with the driver alone; "
         "unstable with the driver and one or more passengers.",
-        "Certified maximum occupancy: driver only",
+        "This vehicle must not carry passengers",
         "Driver + 1 passenger: LSF 0.680 is above the limit 2/3 (0.667) by 0.014.",
         "limit 2/3",
         "Scan to verify, or visit http://127.0.0.1:8000/verify and enter the number",
@@ -92,7 +92,7 @@ def test_a_compliant_vehicle_gets_a_certificate(api: TestClient) -> None:
     text = text_of(pdf_of(api, body["number"]))
     assert "Lateral Stability Certificate" in text
     assert "Refusal" not in text
-    assert "Certified maximum occupancy: driver and one passenger" in text
+    assert "Certified for the driver and up to one passenger" in text
     assert "MD6M14PA7L4F00123" in text
     assert "2021" in text
 

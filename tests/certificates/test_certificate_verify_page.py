@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from datetime import timedelta
+from datetime import datetime, timedelta
 from typing import Any
 
 import pytest
@@ -15,6 +15,7 @@ from app.certificates.numbers import CertificateNumber
 from app.certificates.service import issue_certificate
 from app.config import get_settings
 from app.db import utcnow
+from app.web.formatting import long_date
 
 
 @pytest.fixture
@@ -24,16 +25,19 @@ def issued(api: TestClient) -> dict[str, Any]:
     return body
 
 
-def test_a_current_certificate_shows_valid_the_vehicle_and_table_4(
+def test_a_refusal_in_force_says_not_certified_in_red_with_the_vehicle_and_table_4(
     issued: dict[str, Any], client: TestClient
 ) -> None:
     page = client.get(f"/verify/{issued['number']}")
     assert page.status_code == 200
     html = page.text
-    assert "<h1>VALID</h1>" in html
-    assert "BDG 252 QH" in html
+    assert '<div class="status status--refused" id="status"' in html
+    assert '<h1 class="status__headline" id="headline">NOT CERTIFIED: refusal</h1>' in html
+    assert "VALID" not in html
+    assert '<span id="registration">BDG 252 QH</span>' in html
     assert "Bajaj" in html
-    assert 'Certified maximum occupancy: <strong id="occupancy">driver only</strong>' in html
+    assert '<p class="status__occupancy" id="occupancy">This vehicle must not carry passengers</p>' in html
+    assert "Certificate" not in html.split('id="status"', 1)[1].split("</div>", 1)[0]
     assert "Not compliant. Laterally stable with the driver alone" in html
     assert "Weight on rear wheels (kg)" in html
     assert "0.696" in html
@@ -46,12 +50,19 @@ def test_the_qr_url_shows_whether_its_signature_checks_out(
     issued: dict[str, Any], client: TestClient
 ) -> None:
     genuine = client.get(issued["qr_url"].removeprefix("http://127.0.0.1:8000"))
-    assert "QR code genuine" in genuine.text
+    assert '<div class="qr-check qr-check--genuine" id="qr-check">' in genuine.text
+    assert '<p class="qr-check__title">The QR code is genuine</p>' in genuine.text
+    technical = genuine.text.split('<div class="details__text">', 1)[1]
+    assert technical.startswith(f"<p>Signed with key <code>{issued['key_id']}</code>.</p>")
+    assert issued["key_id"] not in genuine.text.split("<details>", 1)[0]
     token = issued["qr_payload"]
     forged = token[:40] + ("A" if token[40] != "A" else "B") + token[41:]
     page = client.get(f"/verify/{issued['number']}", params={"p": forged})
     assert page.status_code == 200
-    assert "QR code NOT genuine" in page.text
+    assert '<div class="qr-check qr-check--forged" id="qr-check">' in page.text
+    assert '<p class="qr-check__title">The QR code is NOT genuine: do not rely on this paper</p>' in page.text
+    assert "The QR code is genuine" not in page.text
+    assert page.text.index('id="qr-check"') < page.text.index('id="status"')
 
 
 def test_an_unknown_or_mistyped_number_is_a_404_page(client: TestClient, engine: object) -> None:
@@ -84,8 +95,17 @@ def test_a_superseded_certificate_links_to_its_replacement(api: TestClient) -> N
     old = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
     new = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
     page = api.get(f"/verify/{old['number']}")
-    assert "<h1>SUPERSEDED</h1>" in page.text
-    assert f'href="/verify/{new["number"]}"' in page.text
+    replaced_on = long_date(datetime.fromisoformat(new["issued_at"]))
+    assert f'id="headline">SUPERSEDED on {replaced_on}</h1>' in page.text
+    assert 'class="status status--lapsed"' in page.text
+    assert f'<a href="/verify/{new["number"]}" id="newer">Certificate {new["number"]}</a>' in page.text
+    fresh = api.get(f"/verify/{new['number']}").text
+    assert '<div class="status status--valid" id="status"' in fresh
+    assert 'id="headline">VALID CERTIFICATE</h1>' in fresh
+    assert 'id="occupancy">Certified for the driver and up to one passenger</p>' in fresh
+    valid_until = long_date(datetime.fromisoformat(new["expires_at"]))
+    assert f"<p>Valid until {valid_until}.</p>" in fresh
+    assert f'<dd id="valid-until">{valid_until}</dd>' in fresh
 
 
 def test_an_expired_certificate_says_expired(api: TestClient, session: Session) -> None:
@@ -96,7 +116,9 @@ def test_an_expired_certificate_says_expired(api: TestClient, session: Session) 
         session, inspection_id=inspection_id, actor=Actor.of_cli(), settings=get_settings(), now=months_ago
     )
     page = api.get(f"/verify/{issued.certificate.number}")
-    assert "<h1>EXPIRED</h1>" in page.text
+    expired_on = long_date(issued.certificate.expires_at)
+    assert f'id="headline">EXPIRED on {expired_on}</h1>' in page.text
+    assert 'class="status status--lapsed"' in page.text
     assert api.get(f"/api/v1/certificates/{issued.certificate.number}").json()["status"] == "expired"
     again = api.post(f"/api/v1/inspections/{inspection_id}/certificate")
     assert again.status_code == 409

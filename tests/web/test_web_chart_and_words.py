@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from app.inspections.wording import certified_occupancy, verdict_sentence
+from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.web.chart import ChartPoint, lsf_chart, y_range
 
 SVG = "{http://www.w3.org/2000/svg}"
@@ -85,7 +85,7 @@ def test_text_in_the_chart_is_escaped() -> None:
             [(0, True), (1, True), (2, True), (3, False)],
             2,
             "Not compliant. Laterally stable with the driver and up to one passenger; "
-            "unstable with the driver and two passengers.",
+            "unstable with the driver and 2 passengers.",
         ),
         (
             [(0, True), (1, True), (2, True)],
@@ -110,7 +110,13 @@ def test_the_verdict_reads_as_one_plain_sentence(
     assert verdict_sentence(cases, best) == sentence
 
 
-def test_the_certified_occupancy_in_words() -> None:
-    assert certified_occupancy(1) == "compliant with the driver alone"
-    assert certified_occupancy(3) == "compliant with the driver and up to two passengers"
-    assert certified_occupancy(0) == "not compliant even with the driver alone"
+def test_the_occupancy_sentence_says_what_the_vehicle_may_carry() -> None:
+    assert occupancy_sentence(True, 1) == "Certified for the driver alone: no passengers"
+    assert occupancy_sentence(True, 2) == "Certified for the driver and up to one passenger"
+    assert occupancy_sentence(True, 3) == "Certified for the driver and up to 2 passengers"
+    assert (
+        occupancy_sentence(False, 0)
+        == "This vehicle must not be used: it is unstable even with the driver alone"
+    )
+    assert occupancy_sentence(False, 1) == "This vehicle must not carry passengers"
+    assert occupancy_sentence(False, 3) == "This vehicle may carry the driver and up to 2 passengers, no more"

@@ -56,18 +56,17 @@ def test_the_study_vehicle_gets_table_4_with_c_only_for_the_driver_alone(
     page = web.get(response.headers["location"])
     assert page.status_code == 200
     assert table_rows(page.text) == [
-        ["None", "359.0", "250.0", "0.696", "2/3 (0.667)", "-0.030", "NC Not compliant"],
-        ["Driver", "431.0", "283.5", "0.658", "2/3 (0.667)", "+0.009", "C Compliant"],
-        ["Driver + 1 passenger", "503.0", "342.2", "0.680", "2/3 (0.667)", "-0.014", "NC Not compliant"],
-        ["Driver + 2 passengers", "575.0", "400.9", "0.697", "2/3 (0.667)", "-0.031", "NC Not compliant"],
-        ["Driver + 3 passengers", "647.0", "459.6", "0.710", "2/3 (0.667)", "-0.044", "NC Not compliant"],
+        ["None", "359.00", "250.00", "0.696", "2/3 (0.667)", "-0.030", "NC Not compliant"],
+        ["Driver", "431.00", "283.49", "0.658", "2/3 (0.667)", "+0.009", "C Compliant"],
+        ["Driver + 1 passenger", "503.00", "342.18", "0.680", "2/3 (0.667)", "-0.014", "NC Not compliant"],
+        ["Driver + 2 passengers", "575.00", "400.87", "0.697", "2/3 (0.667)", "-0.031", "NC Not compliant"],
+        ["Driver + 3 passengers", "647.00", "459.56", "0.710", "2/3 (0.667)", "-0.044", "NC Not compliant"],
     ]
     assert (
         "Not compliant. Laterally stable with the driver alone; unstable with the driver and one or more "
         "passengers." in page.text
     )
-    assert "Certified maximum occupancy: <strong" in page.text
-    assert "compliant with the driver alone" in page.text
+    assert '<strong id="occupancy">This vehicle must not carry passengers</strong>' in page.text
     assert "<svg" in page.text
     assert "limit 2/3" in page.text
     assert count(session) == 1
@@ -145,7 +144,7 @@ def test_a_measured_case_replaces_the_calculated_row(web: TestClient, study_vehi
     response = post_form(web, FORM_URL, FORM_URL, {**STUDY_READINGS, **measured})
     assert response.status_code == 303
     rows = table_rows(web.get(response.headers["location"]).text)
-    assert rows[2][:4] == ["Driver + 1 passenger (weighed)", "503.0", "333.0", "0.662"]
+    assert rows[2][:4] == ["Driver + 1 passenger (weighed)", "503.00", "333.00", "0.662"]
     assert rows[2][-1] == "C Compliant"
 
 
@@ -240,4 +239,4 @@ def test_the_vehicles_page_shows_its_latest_table_4_and_chart(
         "NC Not compliant",
     ]
     assert 'id="lsf-chart"' in html
-    assert "compliant with the driver alone" in html
+    assert '<strong id="occupancy">This vehicle must not carry passengers</strong>' in html

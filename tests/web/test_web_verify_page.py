@@ -1,0 +1,211 @@
+"""The public verify page in the real browser at 360 and 1280 px: one banner says what the paper means.
+
+A certificate in force, a refusal, a revoked and a superseded document and a tampered QR payload each
+show their banner (words and colour) within the first 640 px of a phone's screen. With
+TRIKECERT_SCREENSHOTS=1 the run saves them as docs/screenshots/verify-<case>-<width>.png.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import pytest
+from fastapi.testclient import TestClient
+from playwright.sync_api import Browser, Page, expect
+from sqlalchemy.orm import Session
+from study_data import STUDY_READINGS, STUDY_VEHICLE
+
+from app.certificates.actors import Actor
+from app.certificates.service import revoke_certificate
+from app.config import get_settings
+from web.test_web_accessibility import AXE_PATH, axe_violations
+from web.webtools import REPO
+
+pytestmark = pytest.mark.browser
+
+SCREENSHOTS = REPO / "docs" / "screenshots"
+TAKE_SCREENSHOTS = os.environ.get("TRIKECERT_SCREENSHOTS") == "1"
+FOLD_PX = 640
+GREEN, RED, GREY = "rgb(0, 112, 60)", "rgb(177, 14, 30)", "rgb(80, 90, 95)"
+# A front-heavy trike of our own with two passenger seats: every loading case complies.
+FRONT_HEAVY: dict[str, Any] = {
+    "make": "TVS",
+    "model": "King",
+    "model_year": 2021,
+    "chassis_number": "MD6M14PA7L4F00123",
+    "wheelbase_m": 2.0,
+    "seats": [{"role": "driver", "x_m": 0.9303}] + [{"role": "passenger", "x_m": 1.4}] * 2,
+}
+FRONT_HEAVY_READINGS: dict[str, Any] = {"front_kg": 220, "left_rear_kg": 70, "right_rear_kg": 70}
+
+
+def certify(api: TestClient, vehicle: dict[str, Any], readings: dict[str, Any]) -> dict[str, Any]:
+    """Weigh a registered vehicle through the station API and return its certificate's JSON."""
+    weighed = api.post(
+        "/api/v1/inspections",
+        json={"registration_number": vehicle["registration_number"], "readings": readings},
+    )
+    assert weighed.status_code == 201, weighed.text
+    issued = api.post(f"/api/v1/inspections/{weighed.json()['id']}/certificate")
+    assert issued.status_code == 201, issued.text
+    body: dict[str, Any] = issued.json()
+    return body
+
+
+@pytest.fixture
+def documents(api: TestClient, session: Session) -> dict[str, dict[str, Any]]:
+    """One document of every kind the banner tells apart."""
+    vehicles = {
+        "valid": {**FRONT_HEAVY, "registration_number": "KTU-417-XA"},
+        "revoked": {**FRONT_HEAVY, "registration_number": "LSR-902-AB"},
+    }
+    for vehicle in (STUDY_VEHICLE, *vehicles.values()):
+        assert api.post("/api/v1/vehicles", json=vehicle).status_code == 201
+    superseded = certify(api, vehicles["valid"], FRONT_HEAVY_READINGS)
+    valid = certify(api, vehicles["valid"], FRONT_HEAVY_READINGS)
+    revoked = certify(api, vehicles["revoked"], FRONT_HEAVY_READINGS)
+    revoke_certificate(
+        session, number=revoked["number"], actor=Actor.of_cli(), reason="Weighbridge ticket forged"
+    )
+    refusal = certify(api, STUDY_VEHICLE, STUDY_READINGS)
+    return {"valid": valid, "refusal": refusal, "revoked": revoked, "superseded": superseded}
+
+
+def path_of(url: str) -> str:
+    """A verify URL as a path on the live server."""
+    return "/" + url.split("://", 1)[1].split("/", 1)[1]
+
+
+def within_fold(page: Page, selector: str) -> None:
+    """The element's bottom edge lies within the first 640 px of the page."""
+    box = page.locator(selector).bounding_box()
+    assert box is not None, selector
+    assert box["y"] + box["height"] <= FOLD_PX, (selector, box)
+
+
+def banner_colour(page: Page) -> str:
+    colour: str = page.locator("#headline").evaluate("e => getComputedStyle(e).backgroundColor")
+    return colour
+
+
+CASES = [
+    # name, document, headline (start), tone class, headline colour, occupancy or status line
+    (
+        "valid",
+        "valid",
+        "VALID CERTIFICATE",
+        "status--valid",
+        GREEN,
+        "Certified for the driver and up to 2 passengers",
+    ),
+    (
+        "refusal",
+        "refusal",
+        "NOT CERTIFIED: refusal",
+        "status--refused",
+        RED,
+        "This vehicle must not carry passengers",
+    ),
+    (
+        "revoked",
+        "revoked",
+        "REVOKED on ",
+        "status--revoked",
+        RED,
+        "This certificate was withdrawn: it certifies nothing.",
+    ),
+    (
+        "superseded",
+        "superseded",
+        "SUPERSEDED on ",
+        "status--lapsed",
+        GREY,
+        "This certificate was replaced and no longer counts.",
+    ),
+]
+
+
+@pytest.mark.parametrize("width", [360, 1280])
+def test_each_banner_says_what_the_paper_means_above_the_fold(
+    page: Page, documents: dict[str, dict[str, Any]], width: int
+) -> None:
+    page.set_viewport_size({"width": width, "height": 740 if width == 360 else 900})
+    for name, key, headline, tone, colour, line in CASES:
+        document = documents[key]
+        page.goto(path_of(document["qr_url"]))
+        banner = page.locator("#status")
+        expect(banner).to_have_class(f"status {tone}")
+        expect(page.locator("#headline")).to_contain_text(headline)
+        assert page.locator("#headline").inner_text().startswith(headline)
+        assert page.title().startswith(f"{page.locator('#headline').inner_text()}, {document['number']} ")
+        assert banner_colour(page) == colour, name
+        expect(banner.locator(".status__occupancy")).to_have_text(line)
+        expect(page.locator("#registration")).to_have_text(document["registration_number"])
+        expect(page.locator("#issuing-authority")).to_have_text(get_settings().issuing_authority)
+        expect(page.locator("#qr-check")).to_have_class("qr-check qr-check--genuine")
+        expect(page.locator("#qr-check .qr-check__title")).to_have_text("The QR code is genuine")
+        expect(page.locator("#qr-check code")).not_to_be_visible()  # the key id waits in <details>
+        shoot(page, name, width)
+        if width == 360:
+            for selector in ("#registration", "#headline", "#status", "#qr-check"):
+                within_fold(page, selector)
+        if name == "superseded":
+            expect(page.locator("#newer")).to_have_text(f"Certificate {documents['valid']['number']}")
+        if name == "revoked":
+            expect(page.locator("#revocation-reason")).to_have_text("Weighbridge ticket forged")
+        if name == "refusal":
+            expect(page.get_by_text("VALID", exact=False)).to_have_count(0)
+
+
+@pytest.mark.parametrize("width", [360, 1280])
+def test_a_tampered_qr_payload_is_called_not_genuine_first(
+    page: Page, documents: dict[str, dict[str, Any]], width: int
+) -> None:
+    page.set_viewport_size({"width": width, "height": 740 if width == 360 else 900})
+    valid, refusal = documents["valid"], documents["refusal"]
+    # A genuine signature, but for another document: the paper's QR code was swapped.
+    page.goto(f"/verify/{valid['number']}?p={refusal['qr_payload']}")
+    check = page.locator("#qr-check")
+    expect(check).to_have_class("qr-check qr-check--forged")
+    expect(check.locator(".qr-check__title")).to_have_text(
+        "The QR code is NOT genuine: do not rely on this paper"
+    )
+    title_colour = check.locator(".qr-check__title").evaluate("e => getComputedStyle(e).color")
+    assert title_colour == RED
+    check_box, banner_box = check.bounding_box(), page.locator("#status").bounding_box()
+    assert check_box is not None
+    assert banner_box is not None
+    assert check_box["y"] < banner_box["y"]
+    shoot(page, "tampered", width)
+    if width == 360:
+        within_fold(page, "#qr-check")
+        within_fold(page, "#headline")
+
+
+def shoot(page: Page, name: str, width: int) -> None:
+    """Save the page as docs/screenshots/verify-<name>-<width>.png when asked to."""
+    if TAKE_SCREENSHOTS:
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SCREENSHOTS / f"verify-{name}-{width}.png"), full_page=True)
+
+
+def test_the_verify_pages_have_no_axe_violations(
+    browser: Browser, browser_context_args: dict[str, Any], documents: dict[str, dict[str, Any]]
+) -> None:
+    if not AXE_PATH.is_file():
+        if os.environ.get("CI"):
+            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
+    page = context.new_page()
+    found: dict[str, list[dict[str, Any]]] = {}
+    valid, refusal = documents["valid"], documents["refusal"]
+    urls = {name: path_of(document["qr_url"]) for name, document in documents.items()}
+    urls["tampered"] = f"/verify/{valid['number']}?p={refusal['qr_payload']}"
+    for name, url in urls.items():
+        page.goto(url)
+        if violations := axe_violations(page, AXE_PATH):
+            found[name] = violations
+    context.close()
+    assert found == {}, found
