@@ -29,7 +29,7 @@ def sign_in(
     session: Session, *, email: str, password: str, client_ip: str | None, settings: Settings
 ) -> SignInResult:
     """Start a session when the credentials are right, the account active and not locked out."""
-    email = normalise_email(email)[:254]
+    email = normalise_email(email)
     if throttle.is_locked_out(session, email=email, client_ip=client_ip, settings=settings):
         throttle.record_attempt(
             session, email=email, outcome=throttle.LOCKED_OUT, user_id=None, client_ip=client_ip
