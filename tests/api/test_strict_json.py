@@ -48,7 +48,7 @@ def refused(response: Any, status: int, field: str, rule: str) -> str:
     assert response.status_code == status, response.text
     problems = {(p["field"], p["rule"]): p["message"] for p in response.json()["errors"]}
     assert (field, rule) in problems, response.text
-    return problems[(field, rule)]
+    return str(problems[(field, rule)])
 
 
 DUPLICATES = {
