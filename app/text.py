@@ -3,10 +3,11 @@
 Makes, models, names, emails, reasons and identifiers are refused when they hold a character that
 cannot be shown or stored faithfully: control characters (C0, DEL, C1; NUL is one, and PostgreSQL
 cannot store it), text-direction controls (a right-to-left override makes `Bajaj` read as `jajaB`),
-zero-width characters (two names that look alike but differ) and unpaired surrogates (not
-characters at all; they cannot be written as UTF-8). Accepted text is normalised to NFC, so a name
-typed with combining accents (`S` + U+0323, `a` + U+0300) is stored in its composed form, and text
-longer than its limit is refused, never cut.
+zero-width characters (two names that look alike but differ), unpaired surrogates (not
+characters at all; they cannot be written as UTF-8) and the replacement character U+FFFD (what a
+form or URL that was not valid UTF-8 is decoded to: the text sent was lost). Accepted text is
+normalised to NFC, so a name typed with combining accents (`S` + U+0323, `a` + U+0300) is stored in
+its composed form, and text longer than its limit is refused, never cut.
 
 The rule is pure (no HTTP, no database): each door turns a `TextProblem` into its own refusal.
 """
@@ -23,6 +24,7 @@ CONTROL = "control_character"
 BIDI = "bidi_control"
 INVISIBLE = "invisible_character"
 SURROGATE = "unpaired_surrogate"
+REPLACEMENT = "replacement_character"
 TOO_LONG = "max_length"
 REQUIRED = "required"
 
@@ -77,6 +79,8 @@ def _kind(char: str, *, multiline: bool) -> str | None:
         return INVISIBLE
     if 0xD800 <= code <= 0xDFFF:
         return SURROGATE
+    if char == "\ufffd":
+        return REPLACEMENT
     return None
 
 
@@ -85,18 +89,20 @@ _WHY = {
     BIDI: "it changes the direction the text is shown in, so it would not read as it is stored",
     INVISIBLE: "it cannot be seen, so two texts that look the same would differ",
     SURROGATE: "it is half of a UTF-16 pair, not a character; send the text as valid UTF-8",
+    REPLACEMENT: "it stands for bytes that were not valid UTF-8; send the text again as UTF-8",
 }
 _WHAT = {
     CONTROL: "the control character",
     BIDI: "the text-direction control",
     INVISIBLE: "the invisible character",
     SURROGATE: "the unpaired surrogate",
+    REPLACEMENT: "the replacement character",
 }
 
 
 def character_problem(value: str, *, multiline: bool = False) -> TextProblem | None:
     """The first refused character of `value`, in words, or None when every character is allowed."""
-    if value.isprintable():  # every refused character is unprintable (Cc, Cf or Cs): checked in C
+    if value.isprintable() and "\ufffd" not in value:  # the others are all unprintable (Cc, Cf, Cs)
         return None
     for position, char in enumerate(value, start=1):
         rule = _kind(char, multiline=multiline)

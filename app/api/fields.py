@@ -23,10 +23,10 @@ from pydantic_core import CoreSchema, PydanticCustomError, core_schema
 
 from app.text import REQUIRED, TextRefused, check_text
 
-# Characters Python's str.strip() removes, and the characters app.text refuses (control, text-direction
-# and zero-width), spelt out so that the pattern means the same to JSON Schema validators (ECMA 262)
+# Characters Python's str.strip() removes, and the characters app.text refuses (control, text-direction,
+# zero-width and U+FFFD), spelt out so that the pattern means the same to JSON Schema validators (ECMA 262)
 # and Python. Unpaired surrogates are refused too; no pattern can say so in both engines.
-_REFUSED = r"\x00-\x1f\x7f-\x9f\u061c\u200b-\u200f\u202a-\u202e\u2060\u2066-\u2069\ufeff"
+_REFUSED = r"\x00-\x1f\x7f-\x9f\u061c\u200b-\u200f\u202a-\u202e\u2060\u2066-\u2069\ufeff\ufffd"
 _BLANK_OR_REFUSED = _REFUSED + r"\x20\xa0\u1680\u2000-\u200a\u2028\u2029\u202f\u205f\u3000"
 TEXT_PATTERN = rf"^[^{_REFUSED}]*[^{_BLANK_OR_REFUSED}][^{_REFUSED}]*$"
 

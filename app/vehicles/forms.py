@@ -49,7 +49,7 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
             errors.add(name, f"Enter the {words}")
     if values["model_year"]:
         year = values["model_year"]
-        if not year.isdigit() or not 1950 <= int(year) <= 2100:
+        if not (year.isascii() and year.isdigit() and len(year) == 4) or not 1950 <= int(year) <= 2100:
             errors.add("model_year", "Enter the model year as 4 digits, like 2012, or leave it blank")
         else:
             result.model_year = int(year)

@@ -36,6 +36,7 @@ BAD_CHARACTERS: dict[str, tuple[str, str]] = {
     "word joiner": ("\u2060", "invisible_character"),
     "byte-order mark": ("\ufeff", "invisible_character"),
     "unpaired surrogate": ("\ud800", "unpaired_surrogate"),
+    "replacement character": ("\ufffd", "replacement_character"),
 }
 DECOMPOSED = unicodedata.normalize("NFD", "Ṣàngó")  # S + dot below, a + grave, o + acute
 VEHICLES = "/api/v1/vehicles"
