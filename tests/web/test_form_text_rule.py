@@ -25,7 +25,7 @@ from app.db import Base
 from app.main import create_app
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
-from web.webtools import ADMIN_EMAIL, PASSWORD, STUDY_READINGS, post_form, sign_in
+from web.webtools import ADMIN_EMAIL, PASSWORD, STUDY_READINGS, hidden, post_form, sign_in
 
 # One character of each class the rule refuses (a surrogate cannot be written in UTF-8: its would-be
 # bytes are sent, which the server reads as U+FFFD, and that is refused too), and text too long.
@@ -332,3 +332,37 @@ def test_a_name_typed_with_combining_accents_is_stored_composed(
     assert response.status_code == 200, response.text
     assert "Ṣàngó weighbridge" in admin_web.get("/admin/stations").text
     assert session.scalars(select(Station.name)).all() == ["Ṣàngó weighbridge"]
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/vehicles/BDG%00252",
+        "/vehicles/BDG%E2%80%AE252",
+        "/vehicles/BDG%00252/inspections/new",
+        "/vehicles/find?registration_number=BDG%00252",
+        "/inspections?registration=BDG%00252",
+        "/statistics?from=2026-01-01%00",
+        "/verify?number=TRK%00",
+    ],
+)
+def test_a_refused_character_in_a_page_address_is_a_4xx(web: TestClient, engine: Engine, path: str) -> None:
+    """The probes that answered 500 on PostgreSQL: each is a 404 or the page again with its message."""
+    before = snapshot(engine)
+    response = web.get(path, follow_redirects=False)
+    assert response.status_code in (404, 422), response.text
+    assert "\x00" not in response.text
+    assert snapshot(engine) == before
+
+
+def test_signing_in_with_a_nul_in_the_email_is_refused_beside_the_field(
+    client: TestClient, engine: Engine
+) -> None:
+    page = client.get("/login")
+    values = {"email": "adm\x00in@example.org", "password": PASSWORD, "csrf_token": hidden(page.text)}
+    before = snapshot(engine)
+    response = client.post("/login", data=values, follow_redirects=False)
+    assert response.status_code == 422, response.text
+    assert "U+0000" in response.text
+    assert 'id="email-error"' in response.text
+    assert snapshot(engine) == before  # not even a failed attempt is logged
