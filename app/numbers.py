@@ -17,6 +17,7 @@ from app.stability import Rules
 
 LIMITS = Rules()
 MAX_READINGS = LIMITS.max_readings_per_wheel
+MAX_LOAD_ITEMS = 10
 
 
 def _json_kind(value: Any) -> str:
@@ -37,6 +38,16 @@ def number_only(value: Any) -> Any:
         raise PydanticCustomError(
             "number_type", "enter a JSON number, not {kind}", {"kind": _json_kind(value)}
         )
+    return value
+
+
+def whole_number_only(value: Any) -> Any:
+    """Refuse anything but a JSON number with no fraction (rule `int_type`); `2012.0` is 2012."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    if isinstance(value, bool) or not isinstance(value, int):
+        kind = _json_kind(value) if not isinstance(value, float) else "a fraction"
+        raise PydanticCustomError("int_type", "enter a whole JSON number, not {kind}", {"kind": kind})
     return value
 
 
@@ -113,6 +124,9 @@ Wheelbase = Annotated[
         number_schema(LIMITS.min_wheelbase_m, LIMITS.max_wheelbase_m, exclusive=False, decimals=M_DECIMALS)
     ),
 ]
+# Metadata for an `int` field of a body: `Annotated[int, Field(ge=..., le=...), WHOLE_NUMBER]`.
+WHOLE_NUMBER = BeforeValidator(whole_number_only)
+
 WheelReading = Annotated[
     list[Kilograms],
     BeforeValidator(one_or_many),

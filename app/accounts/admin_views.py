@@ -6,19 +6,22 @@ from fastapi import APIRouter
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
-from app.accounts.service import ROLES, create_user, get_user, list_users, set_password, set_user_active
+from app.accounts.service import (
+    MAX_PASSWORD_LENGTH,
+    ROLES,
+    create_user,
+    get_user,
+    list_users,
+    set_password,
+    set_user_active,
+)
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
 from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
-from app.web.forms import FormErrors, text
+from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
 
 router = APIRouter(prefix="/admin/users", include_in_schema=False)
-
-
-def _password(form: FormDep) -> str:
-    value = form.get("password")
-    return value[:1024] if isinstance(value, str) else ""
 
 
 @router.get("")
@@ -36,19 +39,26 @@ def new_user_form(request: Request, login: AdminLogin) -> Response:
 @router.post("/new")
 def add_user(request: Request, session: SessionDep, login: AdminPost, form: FormDep) -> Response:
     """Create the account, or show the form again with the problems."""
-    values = {"email": text(form, "email", limit=254), "role": text(form, "role", limit=16)}
     errors = FormErrors()
-    try:
-        user = create_user(session, email=values["email"], password=_password(form), role=values["role"])
-    except ServiceError as error:
-        errors.add_problems(
-            error.problems, {"email": "email", "role": "role-officer", "password": "password"}, "email"
-        )
+    values = {"email": text(form, "email", errors, limit=254), "role": text(form, "role", errors, limit=16)}
+    password = secret(form, "password", errors, limit=MAX_PASSWORD_LENGTH)
+    if "role" in errors.messages:  # the role is a radio button: its message goes beside the first one
+        errors.messages["role-officer"] = errors.messages.pop("role")
+    status = 422
+    if not errors:
+        try:
+            user = create_user(session, email=values["email"], password=password, role=values["role"])
+        except ServiceError as error:
+            errors.add_problems(
+                error.problems, {"email": "email", "role": "role-officer", "password": "password"}, "email"
+            )
+            status = error.status if error.status != 409 else 422
+    if errors:
         return render(
             request,
             "accounts/user_new.html",
             {"values": values, "errors": errors.messages, "roles": ROLES},
-            status_code=error.status if error.status != 409 else 422,
+            status_code=status,
         )
     set_flash(session, login, f"Account {user.email} ({user.role}) created.")
     return RedirectResponse("/admin/users", status_code=303)
@@ -86,11 +96,14 @@ def reset_password(
 ) -> Response:
     """Set the new password and end the account's other sessions."""
     user = get_user(session, user_id)
-    try:
-        set_password(session, user=user, password=_password(form), keep_session_id=login.id)
-    except ServiceError as error:
-        errors = FormErrors()
-        errors.add_problems(error.problems, {"password": "password"}, "password")
+    errors = FormErrors()
+    password = secret(form, "password", errors, limit=MAX_PASSWORD_LENGTH)
+    if not errors:
+        try:
+            set_password(session, user=user, password=password, keep_session_id=login.id)
+        except ServiceError as error:
+            errors.add_problems(error.problems, {"password": "password"}, "password")
+    if errors:
         return render(
             request,
             "accounts/user_password.html",

@@ -30,7 +30,7 @@ def sign_in(
     session: Session, *, email: str, password: str, client_ip: str | None, settings: Settings
 ) -> SignInResult:
     """Start a session when the credentials are right, the account active and not locked out."""
-    email = normalise_email(email)[:254]
+    email = normalise_email(email)
     check = throttle.claim_check(session, email=email, client_ip=client_ip, settings=settings)
     if check is None:
         throttle.record_attempt(

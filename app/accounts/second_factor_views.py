@@ -15,11 +15,22 @@ from app.accounts.views import safe_next
 from app.config import get_settings
 from app.errors import ServiceError
 from app.web.deps import AdminPost, FormDep, PendingLogin, PendingPost, SessionDep
-from app.web.forms import FormErrors, text
+from app.web.forms import FormErrors
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
 NextPath = Annotated[str | None, Query(alias="next")]
+
+
+def _next_field(form: FormDep) -> str:
+    """Where to go on afterwards: the form's `next`, if it is a path of this site."""
+    value = form.get("next")
+    return safe_next(value if isinstance(value, str) else None)
+
+
+def _code(form: FormDep) -> str:
+    value = form.get("code")
+    return value[:40] if isinstance(value, str) else ""
 
 
 def _code_page(request: Request, *, next_path: str, errors: FormErrors, status_code: int = 200) -> Response:
@@ -42,12 +53,10 @@ def code_form(request: Request, login: PendingLogin, next_path: NextPath = None)
 @router.post("/login/code")
 def submit_code(request: Request, session: SessionDep, login: PendingPost, form: FormDep) -> Response:
     """Accept the code once and let the session go on, or show the form again with the problem."""
-    next_path = safe_next(text(form, "next", limit=500))
+    next_path = _next_field(form)
     errors = FormErrors()
     try:
-        kind = second_factor.check_code(
-            session, user=login.user, code=text(form, "code", limit=40), settings=get_settings()
-        )
+        kind = second_factor.check_code(session, user=login.user, code=_code(form), settings=get_settings())
     except ServiceError as error:
         errors.add_problems(error.problems, {"code": "code"}, "code")
         return _code_page(request, next_path=next_path, errors=errors, status_code=error.status)
@@ -92,14 +101,12 @@ def enrol_form(
 @router.post("/account/two-factor")
 def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost, form: FormDep) -> Response:
     """Turn the second factor on once a code from the app is right; show the recovery codes once."""
-    next_path = safe_next(text(form, "next", limit=500))
+    next_path = _next_field(form)
     settings = get_settings()
     if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
         return RedirectResponse(f"/login/code?next={next_path}", status_code=303)
     try:
-        codes = second_factor.confirm_enrolment(
-            session, user=login.user, code=text(form, "code", limit=40), settings=settings
-        )
+        codes = second_factor.confirm_enrolment(session, user=login.user, code=_code(form), settings=settings)
     except ServiceError as error:
         errors = FormErrors()
         errors.add_problems(error.problems, {"code": "code"}, "code")

@@ -13,9 +13,12 @@ from sqlalchemy.orm import Session
 from app.accounts.models import User
 from app.accounts.sessions import end_user_sessions
 from app.errors import Conflict, InvalidInput, NotFound
+from app.text import checked
 
 ROLES = ("officer", "admin")
 MIN_PASSWORD_LENGTH = 10
+MAX_PASSWORD_LENGTH = 1024
+EMAIL_LENGTH = 254
 _EMAIL = re.compile(r"^[^@\s]+@[^@\s]+\.[^@\s]+$")
 _hasher = PasswordHasher()
 
@@ -34,12 +37,13 @@ def verify_password(password_hash: str, password: str) -> bool:
 
 
 def normalise_email(email: str) -> str:
-    """Emails are matched case-insensitively."""
-    return email.strip().lower()
+    """Emails are matched case-insensitively (and in NFC); InvalidInput when it breaks the text rule."""
+    return checked("email", email, max_length=EMAIL_LENGTH, required=False).lower()
 
 
 def check_password_rules(password: str) -> None:
-    """Refuse a password that is too short."""
+    """Refuse a password that is too short or too long, or holds a character the text rule refuses."""
+    checked("password", password, max_length=MAX_PASSWORD_LENGTH, strip=False)
     if len(password) < MIN_PASSWORD_LENGTH:
         raise InvalidInput(
             f"password: use at least {MIN_PASSWORD_LENGTH} characters", field="password", rule="min_length"
@@ -49,7 +53,7 @@ def check_password_rules(password: str) -> None:
 def create_user(session: Session, *, email: str, password: str, role: str) -> User:
     """Store a new account; the email must be new and the role officer or admin."""
     email = normalise_email(email)
-    if not _EMAIL.match(email) or len(email) > 254:
+    if not _EMAIL.match(email):
         raise InvalidInput(
             "email: enter an email address like name@example.org", field="email", rule="format"
         )

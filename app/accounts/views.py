@@ -10,14 +10,17 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts import throttle
 from app.accounts.login import sign_in
+from app.accounts.service import EMAIL_LENGTH, MAX_PASSWORD_LENGTH
 from app.accounts.sessions import end_session, load_session
 from app.config import get_settings
+from app.text import character_problem
 from app.web import cookies, csrf
 from app.web.deps import FormDep, SessionDep
-from app.web.forms import FormErrors, text
+from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
+MAX_NEXT_LENGTH = 500
 
 REFUSALS = {
     throttle.BAD_CREDENTIALS: (401, "Enter a correct email address and password"),
@@ -26,10 +29,17 @@ REFUSALS = {
 
 
 def safe_next(path: str | None) -> str:
-    """Only a path on this site may follow sign-in (never another host)."""
-    if not path or not path.startswith("/") or path.startswith(("//", "/\\")) or path.startswith("/login"):
+    """Only a path on this site may follow sign-in (never another host); home instead of any other.
+
+    It comes from a hidden field or the query string, so a path that breaks the text rule (a NUL or a
+    line break could never go into the Location header) or is too long is dropped, not refused:
+    nobody could correct it.
+    """
+    if not path or len(path) > MAX_NEXT_LENGTH or character_problem(path) is not None:
         return "/"
-    return path[:500]
+    if not path.startswith("/") or path.startswith(("//", "/\\")) or path.startswith("/login"):
+        return "/"
+    return path
 
 
 def _login_page(
@@ -85,11 +95,11 @@ def login_form(
 def login(request: Request, session: SessionDep, form: FormDep) -> Response:
     """Check the form token and the credentials; on success a new session id, then 303 onwards."""
     csrf.check_login_token(request, form)
-    email = text(form, "email", limit=254)
-    password = form.get("password")
-    password = password[:1024] if isinstance(password, str) else ""
-    next_path = safe_next(text(form, "next", limit=500))
     errors = FormErrors()
+    email = text(form, "email", errors, limit=EMAIL_LENGTH)
+    password = secret(form, "password", errors, limit=MAX_PASSWORD_LENGTH)
+    next_field = form.get("next")
+    next_path = safe_next(next_field if isinstance(next_field, str) else None)
     if not email:
         errors.add("email", "Enter your email address")
     if not password:

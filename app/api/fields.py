@@ -4,29 +4,81 @@ Pydantic's datetime is lenient (it takes `0.5` as a Unix time, a space for the `
 zone) and strict where RFC 3339 is not (leap seconds, year 0). `Timestamp` accepts exactly the JSON
 Schema `date-time` format and nothing else, so the schema is the contract.
 
-`text()` is free text (makes, models, labels): not blank, and without control characters, which
-PostgreSQL cannot store (NUL) and which no make or model contains.
+`text()` is free text (makes, models, labels) and `identifier()` a code with a fixed shape
+(registrations): both keep to app.text's rule for every door (no control, text-direction or
+invisible characters, no unpaired surrogates, NFC, refused when too long) and refuse in words, never
+by printing a regular expression. Their schema states the same as a `pattern` and `maxLength`.
 """
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any
 
-from pydantic import BeforeValidator, Field, WithJsonSchema
-from pydantic_core import PydanticCustomError
+from pydantic import BeforeValidator, GetCoreSchemaHandler, GetJsonSchemaHandler, WithJsonSchema
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema, PydanticCustomError, core_schema
 
-# Characters Python's str.strip() removes, and control characters (C0, DEL, C1), spelt out so that the
-# pattern means the same to Pydantic (Rust regex), JSON Schema validators (ECMA 262) and Python.
-_CONTROL = r"\x00-\x1f\x7f-\x9f"
-_BLANK_OR_CONTROL = r"\x00-\x20\x7f-\xa0\u1680\u2000-\u200a\u2028\u2029\u202f\u205f\u3000"
-TEXT_PATTERN = rf"^[^{_CONTROL}]*[^{_BLANK_OR_CONTROL}][^{_CONTROL}]*$"
+from app.text import REQUIRED, TextRefused, check_text
+
+# Characters Python's str.strip() removes, and the characters app.text refuses (control, text-direction,
+# zero-width and U+FFFD), spelt out so that the pattern means the same to JSON Schema validators (ECMA 262)
+# and Python. Unpaired surrogates are refused too; no pattern can say so in both engines.
+_REFUSED = r"\x00-\x1f\x7f-\x9f\u061c\u200b-\u200f\u202a-\u202e\u2060\u2066-\u2069\ufeff\ufffd"
+_BLANK_OR_REFUSED = _REFUSED + r"\x20\xa0\u1680\u2000-\u200a\u2028\u2029\u202f\u205f\u3000"
+TEXT_PATTERN = rf"^[^{_REFUSED}]*[^{_BLANK_OR_REFUSED}][^{_REFUSED}]*$"
 
 
-def text(max_length: int, description: str | None = None) -> Any:
-    """A Field for free text of 1 to `max_length` characters: not blank, no control characters."""
-    return Field(min_length=1, max_length=max_length, pattern=TEXT_PATTERN, description=description)
+@dataclass(frozen=True)
+class TextRule:
+    """Pydantic metadata: the text rule of app.text on a `str`, with its JSON schema."""
+
+    max_length: int
+    description: str | None = None
+    min_length: int = 1
+    shape: re.Pattern[str] | None = None  # an identifier's shape, checked after the text rule
+    shape_words: str = ""  # what the shape is, in words, for the refusal
+
+    def validate(self, value: str) -> str:
+        """The text as stored, or a PydanticCustomError whose type is the rule broken."""
+        try:
+            text = check_text(value, max_length=self.max_length)
+        except TextRefused as refused:
+            problem = refused.problem
+            message = "must not be blank" if problem.rule == REQUIRED else problem.message
+            raise PydanticCustomError(problem.rule, message) from refused
+        if self.shape is not None and not self.shape.fullmatch(text):
+            raise PydanticCustomError("format", self.shape_words)
+        return text
+
+    def __get_pydantic_core_schema__(self, source: Any, handler: GetCoreSchemaHandler) -> CoreSchema:
+        """A str, then the rule."""
+        return core_schema.no_info_after_validator_function(self.validate, handler(source))
+
+    def __get_pydantic_json_schema__(
+        self, schema: CoreSchema, handler: GetJsonSchemaHandler
+    ) -> JsonSchemaValue:
+        """The string's schema with the rule's bounds and pattern."""
+        json_schema = handler(schema)
+        json_schema.update(minLength=self.min_length, maxLength=self.max_length)
+        json_schema["pattern"] = self.shape.pattern if self.shape is not None else TEXT_PATTERN
+        if self.description:
+            json_schema["description"] = self.description
+        return json_schema
+
+
+def text(max_length: int, description: str | None = None) -> TextRule:
+    """Free text of 1 to `max_length` characters under the text rule (use as `Annotated[str, text(80)]`)."""
+    return TextRule(max_length, description)
+
+
+def identifier(
+    pattern: str, *, min_length: int, max_length: int, words: str, description: str | None = None
+) -> TextRule:
+    """An identifier of the shape `pattern` under the text rule; `words` says the shape when refused."""
+    return TextRule(max_length, description, min_length, re.compile(pattern), words)
 
 
 _RFC3339 = re.compile(

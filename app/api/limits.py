@@ -1,4 +1,5 @@
-"""ASGI middleware that refuses request bodies over the configured size with 413."""
+"""The bounds of a request body: its size in bytes (an ASGI middleware answering 413), and how many
+values its lists and objects it may hold (checked by app.api.strict_json as the body is parsed)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,14 @@ from starlette.exceptions import HTTPException
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from app.errors import ServiceError
+from app.numbers import LIMITS, MAX_LOAD_ITEMS, MAX_READINGS
+
+# The longest list any field of the API takes (one wheel's repeated readings, the seats, the load
+# items): a longer one is refused as soon as it is parsed, before any of its values is validated,
+# so a 1 MiB body of half a million readings costs a JSON parse, not half a million validations.
+MAX_LIST_ITEMS = max(MAX_READINGS, LIMITS.max_seats, MAX_LOAD_ITEMS)
+# A valid inspection holds about 50 objects (its readings, seats, load items and measured cases).
+MAX_OBJECTS = 200
 
 
 def too_large_message(max_bytes: int) -> str:

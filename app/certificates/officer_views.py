@@ -13,12 +13,13 @@ from app.certificates.actors import Actor
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import get_certificate
-from app.certificates.service import issue_certificate, revoke_certificate
+from app.certificates.service import REASON_LENGTH, issue_certificate, revoke_certificate
 from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
 from app.inspections.wording import document_kind, issued_message, revoked_message
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.forms import FormErrors, text
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -74,13 +75,12 @@ def revoke_from_page(
 ) -> Response:
     """Revoke with a reason (administrators only), then show the certificate."""
     certificate = get_certificate(session, number)
-    reason = str(form.get("reason") or "")
-    if not reason.strip():
-        return certificate_page(
-            request,
-            certificate,
-            errors={"reason": f"Enter the reason for revoking this {document_kind(certificate.kind)}"},
-        )
+    errors = FormErrors()
+    reason = text(form, "reason", errors, limit=REASON_LENGTH)
+    if not reason:
+        errors.add("reason", f"Enter the reason for revoking this {document_kind(certificate.kind)}")
+    if errors:
+        return certificate_page(request, certificate, errors=errors.messages, reason=reason)
     revoke_certificate(session, number=certificate.number, actor=Actor.of_user(login.user), reason=reason)
     set_flash(session, login, revoked_message(certificate.kind, certificate.number))
     return RedirectResponse(f"/certificates/{certificate.number}", status_code=303)

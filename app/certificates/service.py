@@ -32,6 +32,9 @@ from app.errors import Conflict, InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
 from app.inspections.wording import document_kind
+from app.text import checked
+
+REASON_LENGTH = 1000
 
 
 @dataclass(frozen=True)
@@ -196,11 +199,9 @@ def revoke_certificate(
 
 
 def _reason(reason: str) -> str:
-    reason = " ".join(reason.split())
+    reason = " ".join(checked("reason", reason, max_length=REASON_LENGTH, required=False).split())
     if not reason:
         raise InvalidInput("reason: say why, in a few words", field="reason", rule="required")
-    if len(reason) > 1000:
-        raise InvalidInput("reason: keep it under 1000 characters", field="reason", rule="max_length")
     return reason
 
 

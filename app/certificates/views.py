@@ -15,8 +15,10 @@ from app.certificates.records import certificate_facts, certificate_status, find
 from app.certificates.verification import PayloadCheck, check_payload
 from app.config import get_settings
 from app.inspections import wording
+from app.text import without_refused
 from app.web.deps import SessionDep
 from app.web.formatting import long_date
+from app.web.forms import FormErrors, query_text
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -65,6 +67,10 @@ def verify_form(request: Request, number: Annotated[str | None, Query(max_length
     """Ask for a certificate number; a well-formed one goes to its page."""
     errors: dict[str, str] = {}
     if number is not None:
+        refused = FormErrors()  # the text rule of every door, before the number's own shape
+        number = query_text(number, "number", refused, limit=60) or without_refused(number)
+        errors.update(refused.messages)
+    if number is not None and not errors:
         try:
             return RedirectResponse(f"/verify/{parse_number(number)}", status_code=303)
         except InvalidNumber:

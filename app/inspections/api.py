@@ -11,6 +11,7 @@ from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
+from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.inspections.models import Inspection
@@ -35,9 +36,9 @@ from app.inspections.service import (
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
-from app.vehicles.schemas import REGISTRATION_PATTERN
+from app.vehicles.schemas import RegistrationNumber
 
-router = APIRouter(prefix="/inspections", tags=["inspections"])
+router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
 
 # Ids are INTEGER columns: larger numbers cannot name a stored inspection on any backend.
 MAX_ID = 2**31 - 1
@@ -224,9 +225,7 @@ def read_inspection(
 def index_inspections(
     session: SessionDep,
     station: StationDep,
-    registration_number: Annotated[
-        str | None, Query(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN)
-    ] = None,
+    registration_number: Annotated[RegistrationNumber | None, Query()] = None,
     compliant: bool | None = None,
     since: Annotated[
         Timestamp | None, Query(description="Only inspections at or after this time (RFC 3339, with zone).")

@@ -100,7 +100,9 @@ def _readings(form: InspectionForm, prefix: str, ids: dict[str, list[str]]) -> W
 def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionForm:
     """Parse the posted form into the service's request, or collect what could not be read."""
     seat_count = len(vehicle.seats)
-    form = InspectionForm(values={name: text(form_data, name, limit=40) for name in field_names(seat_count)})
+    errors = FormErrors()
+    values = {name: text(form_data, name, errors, limit=40) for name in field_names(seat_count)}
+    form = InspectionForm(values=values, errors=errors)
     readings = _readings(
         form, "readings", {w: [reading_id(w, i) for i in range(1, READINGS_PER_WHEEL + 1)] for w in WHEELS}
     )

@@ -10,6 +10,8 @@ from pydantic import BaseModel, ConfigDict, Field
 from app.api.fields import text
 from app.numbers import (
     LIMITS,
+    MAX_LOAD_ITEMS,
+    WHOLE_NUMBER,
     LoadKilograms,
     OccupantKilograms,
     OverallReading,
@@ -60,7 +62,7 @@ class MeasuredCaseIn(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    occupants: int = Field(ge=1, le=LIMITS.max_seats)
+    occupants: Annotated[int, Field(ge=1, le=LIMITS.max_seats), WHOLE_NUMBER]
     readings: ReadingsIn
 
 
@@ -73,7 +75,7 @@ class InspectionIn(BaseModel):
     readings: ReadingsIn
     wheelbase_m: Wheelbase | None = None
     occupants: OccupantsIn | None = None
-    load_items: list[LoadItemIn] = Field(default_factory=list, max_length=10)
+    load_items: list[LoadItemIn] = Field(default_factory=list, max_length=MAX_LOAD_ITEMS)
     measured_cases: list[MeasuredCaseIn] = Field(default_factory=list, max_length=LIMITS.max_seats)
 
 

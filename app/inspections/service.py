@@ -38,7 +38,7 @@ from app.stations.scale import (
     configured_scale_rules,
 )
 from app.vehicles.models import Vehicle
-from app.vehicles.service import get_vehicle, normalise_registration
+from app.vehicles.service import get_vehicle, normalise_registration, valid_key
 
 
 @dataclass(frozen=True)
@@ -260,6 +260,8 @@ def list_inspections(
     query = select(Inspection)
     if where.registration_number:
         key = normalise_registration(where.registration_number)
+        if not valid_key(key):  # no vehicle has it; and PostgreSQL cannot even compare a NUL
+            return [], 0
         query = query.join(Inspection.vehicle).where(Vehicle.registration_key == key)
     if where.compliant is not None:
         query = query.where(Inspection.compliant == where.compliant)

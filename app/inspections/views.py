@@ -28,7 +28,7 @@ from app.web import submissions
 from app.web.chart import ChartPoint, lsf_chart, short_label
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.formatting import day_bounds, local_today
-from app.web.forms import FormErrors, read_date
+from app.web.forms import FormErrors, query_text, read_date
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -186,11 +186,11 @@ VERDICTS = {"": None, "compliant": True, "not-compliant": False}
 def inspections_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
     """Inspections, newest first, filtered by verdict, station, dates and registration, a page at a time."""
     query = request.query_params
+    errors = FormErrors()
     values = {
-        name: query.get(name, "").strip()[:40]
+        name: query_text(query.get(name, ""), name, errors, limit=40)
         for name in ("verdict", "station", "from", "to", "registration")
     }
-    errors = FormErrors()
     if values["verdict"] not in VERDICTS:
         errors.add("verdict", "Choose compliant, not compliant or all")
         values["verdict"] = ""

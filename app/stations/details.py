@@ -2,17 +2,16 @@
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from datetime import date
 from decimal import Decimal
 
 from app.errors import InvalidInput
 from app.stations.models import Station
+from app.text import optional_checked
 
 MAX_CAPACITY_KG = Decimal("100000")
 KG_DECIMALS = 3
-_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
 _TEXT_LIMITS = {"location": 200, "operator_contact": 200, "calibration_certificate": 64}
 
 
@@ -41,17 +40,8 @@ def details_of(station: Station) -> StationDetails:
 
 
 def _clean_text(field: str, value: str | None) -> str | None:
-    if value is None:
-        return None
-    value = " ".join(value.split())
-    if not value:
-        return None
-    limit = _TEXT_LIMITS[field]
-    if len(value) > limit or _CONTROL.search(value):
-        raise InvalidInput(
-            f"{field}: give at most {limit} characters without control characters", field=field, rule="length"
-        )
-    return value
+    text = optional_checked(field, value, max_length=_TEXT_LIMITS[field])
+    return " ".join(text.split()) if text else None
 
 
 def _check_kg(field: str, value: Decimal | None, *, maximum: Decimal) -> None:

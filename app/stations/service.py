@@ -11,9 +11,10 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from app.db import utcnow
-from app.errors import Conflict, InvalidInput, NotFound
+from app.errors import Conflict, NotFound
 from app.stations.details import StationDetails, apply_details, checked_details
 from app.stations.models import Station
+from app.text import checked
 
 KEY_PREFIX = "tks_"
 
@@ -28,12 +29,11 @@ def new_key() -> str:
     return KEY_PREFIX + secrets.token_urlsafe(32)
 
 
+NAME_LENGTH = 120
+
+
 def _checked_name(session: Session, name: str, *, station_id: int | None = None) -> str:
-    name = " ".join(name.split())
-    if not 1 <= len(name) <= 120:
-        raise InvalidInput(
-            "name: give the station a name of 1 to 120 characters", field="name", rule="length"
-        )
+    name = " ".join(checked("name", name, max_length=NAME_LENGTH).split())
     other = session.scalar(select(Station.id).where(Station.name == name))
     if other is not None and other != station_id:
         raise Conflict(f"name: a station named {name!r} already exists", field="name", rule="unique")
@@ -99,9 +99,9 @@ def get_station(session: Session, station_id: int) -> Station:
 
 def find_station(session: Session, name_or_id: str) -> Station:
     """The station with this name (spaces tidied) or, failing that, this id; or NotFound."""
-    name = " ".join(name_or_id.split())
+    name = " ".join(checked("station", name_or_id, max_length=NAME_LENGTH).split())
     station = session.scalar(select(Station).where(Station.name == name))
-    if station is None and name.isdigit():
+    if station is None and name.isdigit() and len(name) < 10:
         station = session.get(Station, int(name))
     if station is None:
         raise NotFound(f"station: no station is named {name!r}", field="station", rule="exists")

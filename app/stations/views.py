@@ -139,9 +139,9 @@ def _weight(values: dict[str, str], name: str, words: str, errors: FormErrors) -
 
 def read_station_form(form: FormData) -> StationForm:
     """Parse the posted form; blank optional fields mean "not on record"."""
-    values = {name: text(form, name, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
-    result = StationForm(values=values)
-    errors = result.errors
+    errors = FormErrors()
+    values = {name: text(form, name, errors, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    result = StationForm(values=values, errors=errors)
     result.name = " ".join(values["name"].split())
     if not result.name:
         errors.add("name", "Enter the station's name, like Agbara weighbridge")

@@ -15,7 +15,7 @@ from app.stations.models import Station
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
 from app.web.deps import CurrentLogin, SessionDep
 from app.web.formatting import local_today, local_zone
-from app.web.forms import FormErrors, read_date
+from app.web.forms import FormErrors, query_text, read_date
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -25,7 +25,9 @@ DEFAULT_DAYS = 30
 def read_filters(request: Request, errors: FormErrors) -> tuple[dict[str, str], Period, int | None]:
     """The period (default: the last 30 days, today included) and station asked for, or the errors."""
     query = request.query_params
-    values = {name: query.get(name, "").strip()[:40] for name in ("from", "to", "station")}
+    values = {
+        name: query_text(query.get(name, ""), name, errors, limit=40) for name in ("from", "to", "station")
+    }
     today = local_today()
     last = read_date(values["to"], "to", errors) or today
     first = read_date(values["from"], "from", errors) or last - timedelta(days=DEFAULT_DAYS - 1)

@@ -9,20 +9,20 @@ from fastapi.responses import Response
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
+from app.api.strict_json import StrictJSONRoute
 from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.models import Vehicle
 from app.vehicles.schemas import (
-    REGISTRATION_DESCRIPTION,
-    REGISTRATION_PATTERN,
+    RegistrationNumber,
     SeatOut,
     VehicleIn,
     VehicleOut,
 )
 from app.vehicles.service import get_vehicle, register_vehicle
 
-router = APIRouter(prefix="/vehicles", tags=["vehicles"])
+router = APIRouter(prefix="/vehicles", tags=["vehicles"], route_class=StrictJSONRoute)
 
 
 def vehicle_out(vehicle: Vehicle) -> VehicleOut:
@@ -100,10 +100,7 @@ def create_vehicle(
     summary="Find a vehicle by registration (case, spaces and hyphens ignored)",
 )
 def read_vehicle(
-    registration_number: Annotated[
-        str,
-        Path(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN, description=REGISTRATION_DESCRIPTION),
-    ],
+    registration_number: Annotated[RegistrationNumber, Path()],
     session: SessionDep,
     _station: StationDep,
 ) -> VehicleOut:

@@ -39,9 +39,9 @@ class VehicleForm:
 
 def read_vehicle_form(form: FormData) -> VehicleForm:
     """Parse the posted form; blank passenger rows are ignored."""
-    values = {name: text(form, name, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
-    result = VehicleForm(values=values)
-    errors = result.errors
+    errors = FormErrors()
+    values = {name: text(form, name, errors, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    result = VehicleForm(values=values, errors=errors)
     if not values["registration_number"]:
         errors.add("registration_number", "Enter the registration number, like BDG 252 QH")
     for name, words in (("make", "make, like Bajaj"), ("model", "model, like RE 4S")):
@@ -49,7 +49,7 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
             errors.add(name, f"Enter the {words}")
     if values["model_year"]:
         year = values["model_year"]
-        if not year.isdigit() or not 1950 <= int(year) <= 2100:
+        if not (year.isascii() and year.isdigit() and len(year) == 4) or not 1950 <= int(year) <= 2100:
             errors.add("model_year", "Enter the model year as 4 digits, like 2012, or leave it blank")
         else:
             result.model_year = int(year)

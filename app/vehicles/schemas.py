@@ -7,8 +7,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
 
-from app.api.fields import text
-from app.numbers import LIMITS, POSITION_SCHEMA, Position, Wheelbase
+from app.api.fields import identifier, text
+from app.numbers import LIMITS, POSITION_SCHEMA, WHOLE_NUMBER, Position, Wheelbase
 
 # 2 to 16 letters and digits, with spaces or hyphens between them that are ignored:
 # exactly the registrations the service can normalise (`bdg-252qh` and `BDG 252 QH` are one vehicle).
@@ -17,10 +17,15 @@ REGISTRATION_DESCRIPTION = (
     "2 to 16 letters and digits; spaces and hyphens between them are ignored, as is case "
     "(`bdg-252qh` is `BDG 252 QH`)."
 )
-RegistrationNumber = Annotated[
-    str,
-    Field(min_length=2, max_length=32, pattern=REGISTRATION_PATTERN, description=REGISTRATION_DESCRIPTION),
-]
+REGISTRATION_WORDS = "use 2 to 16 letters and digits, like BDG 252 QH (spaces and hyphens are ignored)"
+REGISTRATION_RULE = identifier(
+    REGISTRATION_PATTERN,
+    min_length=2,
+    max_length=32,
+    words=REGISTRATION_WORDS,
+    description=REGISTRATION_DESCRIPTION,
+)
+RegistrationNumber = Annotated[str, REGISTRATION_RULE]
 
 
 def _seat_schema(role: str) -> dict[str, Any]:
@@ -88,7 +93,7 @@ class VehicleIn(BaseModel):
     registration_number: RegistrationNumber
     make: Annotated[str, text(80)]
     model: Annotated[str, text(80)]
-    model_year: int | None = Field(default=None, ge=1950, le=2100)
+    model_year: Annotated[int, Field(ge=1950, le=2100), WHOLE_NUMBER] | None = None
     chassis_number: Annotated[str, text(64)] | None = None
     wheelbase_m: Wheelbase
     seats: SeatLayout

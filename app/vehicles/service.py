@@ -14,7 +14,13 @@ from app.errors import Conflict, InvalidInput, NotFound
 from app.stability import Rules, StabilityError
 from app.stability import Seat as StabilitySeat
 from app.stability.validation import check_seat_layout, check_wheelbase
+from app.text import TextRefused, check_text, checked, optional_checked, without_refused
 from app.vehicles.models import Seat, Vehicle
+
+MAKE_LENGTH = 80
+MODEL_LENGTH = 80
+CHASSIS_LENGTH = 64
+REGISTRATION_LENGTH = 32
 
 _SEPARATORS = re.compile(r"[\s\-]+")
 
@@ -25,8 +31,8 @@ def normalise_registration(registration_number: str) -> str:
 
 
 def display_registration(registration_number: str) -> str:
-    """The registration as printed: upper case, single spaces."""
-    return " ".join(registration_number.replace("-", " ").split()).upper()
+    """The registration as printed: upper case, single spaces (and nothing the text rule refuses)."""
+    return " ".join(without_refused(registration_number).replace("-", " ").split()).upper()
 
 
 def register_vehicle(
@@ -48,13 +54,20 @@ def register_vehicle(
     can store a row of its own in the same transaction (the API's idempotency key).
     """
     rules = rules or Rules()
+    registration_number = checked("registration_number", registration_number, max_length=REGISTRATION_LENGTH)
     key = normalise_registration(registration_number)
-    if not key.isalnum() or not 2 <= len(key) <= 16:
+    if not valid_key(key):
         raise InvalidInput(
-            "registration_number: use 2 to 16 letters and digits (spaces and hyphens are ignored)",
+            "registration_number: use 2 to 16 letters and digits, like BDG 252 QH "
+            "(spaces and hyphens are ignored)",
             field="registration_number",
             rule="format",
         )
+    make = checked("make", make, max_length=MAKE_LENGTH)
+    model = checked("model", model, max_length=MODEL_LENGTH)
+    chassis_number = optional_checked("chassis_number", chassis_number, max_length=CHASSIS_LENGTH)
+    if chassis_number:  # upper case can lengthen a text (ß is SS): the limit holds for what is stored
+        chassis_number = checked("chassis_number", chassis_number.upper(), max_length=CHASSIS_LENGTH)
     _check_layout(wheelbase_m, seats, rules)
     on_file = _registered_as(session, key)
     if on_file is not None:
@@ -62,10 +75,10 @@ def register_vehicle(
     vehicle = Vehicle(
         registration_number=display_registration(registration_number),
         registration_key=key,
-        make=make.strip(),
-        model=model.strip(),
+        make=make,
+        model=model,
         model_year=model_year,
-        chassis_number=chassis_number.strip().upper() if chassis_number else None,
+        chassis_number=chassis_number,
         wheelbase_m=wheelbase_m,
         seats=[Seat(position=i, role=role, x_m=x_m) for i, (role, x_m) in enumerate(seats)],
     )
@@ -79,6 +92,11 @@ def register_vehicle(
         session.rollback()
         raise _duplicate(registration_number, _registered_as(session, key)) from error
     return vehicle
+
+
+def valid_key(key: str) -> bool:
+    """True for a lookup key a registration can have: 2 to 16 ASCII letters and digits."""
+    return key.isascii() and key.isalnum() and 2 <= len(key) <= 16
 
 
 def _registered_as(session: Session, key: str) -> str | None:
@@ -111,8 +129,13 @@ def _check_layout(wheelbase_m: Decimal, seats: list[tuple[str, Decimal]], rules:
 
 
 def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:
-    """The vehicle with this registration (normalised), or None."""
-    key = normalise_registration(registration_number)
+    """The vehicle with this registration (normalised), or None; a text no registration can be is None."""
+    try:
+        key = normalise_registration(check_text(registration_number, max_length=REGISTRATION_LENGTH))
+    except TextRefused:
+        return None
+    if not valid_key(key):  # never sent to the database: PostgreSQL cannot even compare a NUL
+        return None
     # The seats in the same round trip: every caller reads them.
     query = select(Vehicle).where(Vehicle.registration_key == key).options(joinedload(Vehicle.seats))
     return session.scalars(query).unique().one_or_none()

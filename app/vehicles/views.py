@@ -13,10 +13,11 @@ from app.config import get_settings
 from app.errors import Conflict, NotFound, ServiceError
 from app.inspections.service import InspectionFilter, list_inspections
 from app.inspections.views import result_context
+from app.text import without_refused
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
-from app.web.forms import FormErrors
+from app.web.forms import FormErrors, query_text
 from app.web.templating import render
 
 router = APIRouter(prefix="/vehicles", include_in_schema=False)
@@ -28,13 +29,18 @@ def find_page(
     request: Request,
     session: SessionDep,
     login: CurrentLogin,
-    registration_number: Annotated[str | None, Query(max_length=64)] = None,
+    registration_number: Annotated[str | None, Query()] = None,
 ) -> Response:
     """Find a vehicle by registration (case, spaces and hyphens ignored)."""
     errors = FormErrors()
+    shown, status = "", 200
     if registration_number is not None:
-        wanted = registration_number.strip()
-        if not wanted:
+        wanted = query_text(registration_number, "registration_number", errors, limit=64)
+        shown = wanted or without_refused(registration_number)
+        status = 422 if errors else 404
+        if errors:
+            pass
+        elif not wanted:
             errors.add("registration_number", "Enter a registration number, like BDG 252 QH")
         elif (vehicle := find_vehicle(session, wanted)) is not None:
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
@@ -47,8 +53,8 @@ def find_page(
     return render(
         request,
         "vehicles/find.html",
-        {"values": {"registration_number": registration_number or ""}, "errors": errors.messages},
-        status_code=404 if errors and registration_number else 200,
+        {"values": {"registration_number": shown}, "errors": errors.messages},
+        status_code=status if errors and registration_number else 200,
     )
 
 

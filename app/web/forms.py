@@ -10,16 +10,51 @@ from decimal import Decimal, InvalidOperation
 from starlette.datastructures import FormData
 
 from app.errors import FieldProblem
+from app.text import TextRefused, character_problem, check_text, without_refused
 
 # The core and services start each message with the field's path ("readings.front_kg[1]: ...").
 _FIELD_PREFIX = re.compile(r"^[A-Za-z_][\w.\[\]]*: ")
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)$")
 
 
-def text(form: FormData, name: str, *, limit: int = 200) -> str:
-    """A text field, stripped and cut to `limit` characters ("" when absent)."""
+def text(form: FormData, name: str, errors: FormErrors, *, limit: int, multiline: bool = False) -> str:
+    """A text field under the text rule (app.text), stripped and in NFC ("" when absent).
+
+    A refused text adds its message beside the field (the input's id is its name) and comes back
+    without the refused characters, to show again; a text over `limit` is refused, never cut.
+    """
     value = form.get(name)
-    return value.strip()[:limit] if isinstance(value, str) else ""
+    if not isinstance(value, str):
+        return ""
+    try:
+        return check_text(value, max_length=limit, required=False, multiline=multiline)
+    except TextRefused as refused:
+        errors.add(name, readable(refused.problem.message))
+        return without_refused(value, multiline=multiline).strip()
+
+
+def secret(form: FormData, name: str, errors: FormErrors, *, limit: int) -> str:
+    """A password field: the text rule's characters and limit, but as typed (never stripped or normalised)."""
+    value = form.get(name)
+    if not isinstance(value, str):
+        return ""
+    problem = character_problem(value)
+    if problem is not None:
+        errors.add(name, readable(problem.message))
+    elif len(value) > limit:
+        errors.add(name, f"Give at most {limit} characters, not {len(value)}")
+    else:
+        return value
+    return ""
+
+
+def query_text(value: str, name: str, errors: FormErrors, *, limit: int) -> str:
+    """A filter from the query string under the text rule; refused, it adds its message and is "" ."""
+    try:
+        return check_text(value, max_length=limit, required=False)
+    except TextRefused as refused:
+        errors.add(name, readable(refused.problem.message))
+        return ""
 
 
 def parse_decimal(value: str) -> Decimal | None:

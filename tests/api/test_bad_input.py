@@ -444,8 +444,8 @@ BAD: dict[str, Bad] = {
         VEHICLES,
         422,
         "registration_number",
-        "string_pattern_mismatch",
-        ("registration_number",),
+        "format",
+        ("registration_number", "2 to 16 letters and digits"),
         json=vehicle(registration_number="KTU/417_XA"),
     ),
     "a control character in the make": Bad(
@@ -453,8 +453,8 @@ BAD: dict[str, Bad] = {
         VEHICLES,
         422,
         "make",
-        "string_pattern_mismatch",
-        ("make",),
+        "control_character",
+        ("make", "U+0000"),
         json=vehicle(make="TVS\u0000"),
     ),
     "a blank model": Bad(
@@ -462,8 +462,8 @@ BAD: dict[str, Bad] = {
         VEHICLES,
         422,
         "model",
-        "string_pattern_mismatch",
-        ("model",),
+        "required",
+        ("model", "blank"),
         json=vehicle(model="   "),
     ),
     # Unknown fields
