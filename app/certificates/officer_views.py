@@ -17,6 +17,7 @@ from app.certificates.service import issue_certificate, revoke_certificate
 from app.certificates.views import HEADLINES
 from app.config import get_settings
 from app.errors import ServiceError
+from app.ids import InspectionId
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.templating import render
 
@@ -49,7 +50,7 @@ def certificate_page(
 
 
 @router.post("/inspections/{inspection_id}/certificate")
-def issue_from_page(inspection_id: int, session: SessionDep, login: PostLogin) -> Response:
+def issue_from_page(inspection_id: InspectionId, session: SessionDep, login: PostLogin) -> Response:
     """Issue (or find) the inspection's certificate, then show it."""
     try:
         issued = issue_certificate(
