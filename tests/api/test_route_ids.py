@@ -79,7 +79,7 @@ def operations(app: FastAPI) -> list[Operation]:
             continue
         for method in sorted(route.methods or ()):
             if method != "HEAD":
-                found.append(Operation(method, route.path, ints, others, queries))
+                found.append(Operation(method, str(route.path), ints, others, queries))
     return found
 
 
@@ -122,11 +122,13 @@ class Caller:
         """The request, signed as the operation needs."""
         if op.api:
             headers = {"Authorization": f"Bearer {self.station_key}"}
-            return self.client.request(op.method, url, params=params, headers=headers)
+            answer: Response = self.client.request(op.method, url, params=params, headers=headers)
+            return answer
         data = {"csrf_token": self.csrf_token} if op.method == "POST" else None
-        return self.client.request(
+        response: Response = self.client.request(
             op.method, url, params=params, data=data, headers=HTML, follow_redirects=False
         )
+        return response
 
 
 @pytest.fixture
@@ -174,7 +176,9 @@ def test_numbers_in_any_text_path_parameter_or_query_parameter_are_no_server_err
     problems = []
     for op in OPERATIONS:
         for value in [*OUT_OF_RANGE, str(MAX_ID), "1" * 40]:
-            tried = [(f"{name}={value}", op.url(name, value), None) for name in op.other_path_params]
+            tried: list[tuple[str, str, dict[str, str] | None]] = [
+                (f"{name}={value}", op.url(name, value), None) for name in op.other_path_params
+            ]
             tried += [(f"?{name}={value}", op.url("", "1"), {name: value}) for name in op.query_params]
             for what, url, params in tried:
                 response = caller.send(op, url, params)

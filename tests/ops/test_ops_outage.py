@@ -39,8 +39,8 @@ class Database:
     """A database of the test's own, and how to take it away and bring it back."""
 
     url: str
-    stop: Callable[[], None]
-    start: Callable[[], None]
+    stop: Callable[[], object]
+    start: Callable[[], object]
 
 
 def _admin(server_url: str, sql: str) -> None:
