@@ -199,6 +199,21 @@ UNAVAILABLE_MESSAGE = (
 )
 
 
+# Documented on every API operation: any of them may meet a database that is away.
+UNAVAILABLE_RESPONSE: dict[int | str, dict[str, Any]] = {
+    503: {
+        "model": ErrorOut,
+        "description": "The database is not answering; send the request again after Retry-After seconds.",
+        "headers": {
+            "Retry-After": {
+                "description": "Seconds to wait before trying again.",
+                "schema": {"type": "integer"},
+            }
+        },
+    }
+}
+
+
 async def on_database_error(request: Request, exc: Exception) -> JSONResponse:
     """503 with Retry-After while the database is away; any other database error stays a 500."""
     if not is_outage(exc):

@@ -226,3 +226,17 @@ def test_a_database_outage_is_a_503_that_says_try_again_and_the_service_recovers
     log = served.log.read_text()
     assert "Traceback" not in log
     assert "Internal Server Error" not in log
+
+
+def test_every_api_operation_documents_the_503_and_its_retry_after() -> None:
+    from app.main import create_app
+
+    paths = create_app().openapi()["paths"]
+    operations = [
+        (path, op) for path, ops in paths.items() if path.startswith("/api/") for op in ops.values()
+    ]
+    assert operations
+    for path, operation in operations:
+        unavailable = operation["responses"].get("503")
+        assert unavailable is not None, path
+        assert "Retry-After" in unavailable["headers"], path
