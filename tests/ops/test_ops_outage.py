@@ -27,6 +27,8 @@ from sqlalchemy import create_engine, text
 from sqlalchemy.engine import make_url
 from study_data import STUDY_READINGS
 
+from app.main import create_app
+
 BIN = Path(sys.executable).parent
 OFFICER = "officer@example.org"
 PASSWORD = "correct horse battery"
@@ -229,8 +231,6 @@ def test_a_database_outage_is_a_503_that_says_try_again_and_the_service_recovers
 
 
 def test_every_api_operation_documents_the_503_and_its_retry_after() -> None:
-    from app.main import create_app
-
     paths = create_app().openapi()["paths"]
     operations = [
         (path, op) for path, ops in paths.items() if path.startswith("/api/") for op in ops.values()
