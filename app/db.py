@@ -95,8 +95,8 @@ class _WriterLock:
         self.file: int | None = None
 
     def acquire(self) -> None:
-        if not self.threads.acquire(timeout=SQLITE_BUSY_SECONDS):
-            raise TimeoutError("SQLite: waited too long for this process's writer lock")
+        if not self.threads.acquire(timeout=SQLITE_BUSY_SECONDS):  # busy, not broken: a 503, try again
+            raise exc.TimeoutError("SQLite: waited too long for this process's writer lock")
         if self.path is None:
             return
         try:

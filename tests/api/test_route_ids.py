@@ -19,9 +19,11 @@ from fastapi.dependencies.models import Dependant
 from fastapi.routing import iter_route_contexts
 from fastapi.testclient import TestClient
 from httpx import Response
+from sqlalchemy import Engine
 from sqlalchemy.orm import Session
 from web.webtools import ADMIN_EMAIL, PASSWORD, hidden, sign_in
 
+from app import cli
 from app.accounts.service import create_user
 from app.ids import MAX_ID
 from app.main import create_app
@@ -200,3 +202,15 @@ def test_a_list_page_number_no_list_can_reach_is_page_not_found(caller: Caller) 
         response = caller.client.get("/inspections", params={"page": value}, headers=HTML)
         assert response.status_code == 404, f"page={value}: {response.status_code}"
         assert "Page not found" in response.text
+
+
+@pytest.mark.parametrize("value", OUT_OF_RANGE)
+def test_the_command_line_refuses_an_id_no_record_can_have(
+    value: str, engine: Engine, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as usage:
+        cli.main(["issue-certificate", value])
+    assert usage.value.code == 2
+    assert "is not an id (a whole number from 1 to 2147483647)" in capsys.readouterr().err
+    assert cli.main(["disable-station", value]) != 0
+    assert f"no station is named '{value}'" in capsys.readouterr().err

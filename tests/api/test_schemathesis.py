@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 from collections.abc import Iterator
 from decimal import Decimal
 from fractions import Fraction
@@ -64,10 +65,12 @@ SCALE = ScaleRules()
 # every request with it through the schema's HTTPBearer scheme, except the requests in which it
 # deliberately leaves the key out (those must answer 401).
 STATION_KEY = new_key()
+# Examples per operation and phase; raise it for a deeper search than CI's (it stays deterministic).
+EXAMPLES = int(os.environ.get("TRIKECERT_SCHEMATHESIS_EXAMPLES", "40"))
 CONFIG = schemathesis.Config.from_dict(
     {
         "seed": 20261123,
-        "generation": {"max-examples": 40, "deterministic": True},
+        "generation": {"max-examples": EXAMPLES, "deterministic": True},
         "auth": {"openapi": {"HTTPBearer": {"bearer": STATION_KEY}}},
     }
 )
@@ -345,7 +348,7 @@ def test_linked_calls_keep_the_promises_of_the_schema(client: TestClient) -> Non
 
     Workflow.run(
         settings=settings(
-            max_examples=30,
+            max_examples=max(30, EXAMPLES // 2),
             stateful_step_count=8,
             derandomize=True,
             deadline=None,
