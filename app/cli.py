@@ -15,7 +15,7 @@ from decimal import Decimal, InvalidOperation
 from pydantic import ValidationError
 
 from app import __version__
-from app.audit.recorder import act_from_command_line
+from app.audit.recorder import acting_from_command_line
 from app.certificates.cli import add_certificate_commands
 from app.config import get_settings, settings_problems
 from app.db import get_engine, get_sessionmaker
@@ -299,7 +299,6 @@ def cmd_audit_verify(_args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script."""
     args = build_parser().parse_args(argv)
-    act_from_command_line()
     try:
         get_settings()
     except ValidationError as error:
@@ -307,7 +306,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"trikecert: refusing to start: {line}", file=sys.stderr)
         return 2
     try:
-        code: int = args.handler(args)
+        with acting_from_command_line():
+            code: int = args.handler(args)
     except ServiceError as error:
         print(f"trikecert: {error.message}", file=sys.stderr)
         return 2

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import fcntl
 import os
+import sqlite3
 import threading
 from collections.abc import AsyncIterator
 from datetime import UTC, datetime
 from functools import lru_cache
 from typing import Any
 
-from sqlalchemy import DateTime, Engine, MetaData, create_engine, event, make_url
+from sqlalchemy import DateTime, Engine, MetaData, create_engine, event, exc, make_url
 from sqlalchemy.orm import DeclarativeBase, Session, sessionmaker
 from sqlalchemy.types import TypeDecorator
 from starlette.concurrency import run_in_threadpool
@@ -94,8 +95,8 @@ class _WriterLock:
         self.file: int | None = None
 
     def acquire(self) -> None:
-        if not self.threads.acquire(timeout=SQLITE_BUSY_SECONDS):
-            raise TimeoutError("SQLite: waited too long for this process's writer lock")
+        if not self.threads.acquire(timeout=SQLITE_BUSY_SECONDS):  # busy, not broken: a 503, try again
+            raise exc.TimeoutError("SQLite: waited too long for this process's writer lock")
         if self.path is None:
             return
         try:
@@ -166,6 +167,56 @@ def _single_writer(engine: Engine) -> None:
     setattr(dialect, "do_close", do_close)  # noqa: B010
 
 
+# How long a client should wait before trying again when the database does not answer.
+RETRY_AFTER_SECONDS = 5
+_UNAVAILABLE = (exc.OperationalError, exc.InterfaceError, exc.TimeoutError, exc.DisconnectionError)
+
+
+def is_outage(error: BaseException) -> bool:
+    """Did the database fail to answer (down, unreachable, locked, out of connections), not the query?
+
+    These pass: a request sent again once the database is back can succeed. Every other database
+    error (a broken constraint, bad SQL) is a fault of the request or the code, not of availability.
+    """
+    if isinstance(error, _UNAVAILABLE):
+        return True
+    return isinstance(error, exc.DBAPIError) and error.connection_invalidated
+
+
+def _file_identity(path: str) -> tuple[int, int] | None:
+    try:
+        status = os.stat(path)
+    except OSError:
+        return None
+    return status.st_dev, status.st_ino
+
+
+def _same_file_every_checkout(engine: Engine, path: str) -> None:
+    """SQLite: a pooled connection is used only while its file is still the one at the path.
+
+    A connection keeps the file it opened even after that file is moved, replaced or removed; it would
+    go on answering, and storing, in a file nobody will read again. Such a connection is discarded at
+    checkout instead, and a file that has gone is not created afresh (empty) in its place: the app
+    answers "unavailable" until the database is back, then reconnects by itself.
+    """
+    opened = threading.Event()
+
+    @event.listens_for(engine, "do_connect")
+    def _no_new_file(_dialect: Any, _record: Any, _cargs: Any, _cparams: Any) -> None:
+        if opened.is_set() and _file_identity(path) is None:
+            raise sqlite3.OperationalError(f"unable to open database file: {path} is missing")
+
+    @event.listens_for(engine, "connect")
+    def _remember(_dbapi_connection: Any, record: Any) -> None:
+        record.info["file"] = _file_identity(path)
+        opened.set()
+
+    @event.listens_for(engine, "checkout")
+    def _check(_dbapi_connection: Any, record: Any, _proxy: Any) -> None:
+        if _file_identity(path) != record.info.get("file"):
+            raise exc.DisconnectionError(f"the database file {path} was moved, replaced or removed")
+
+
 def make_engine(url: str) -> Engine:
     """An engine for the URL; SQLite gets WAL, foreign keys, a busy timeout and a single-writer path."""
     if url.startswith("sqlite"):
@@ -190,6 +241,8 @@ def make_engine(url: str) -> Engine:
             cursor.close()
 
         _single_writer(engine)
+        if not in_memory and not make_url(url).query.get("uri"):
+            _same_file_every_checkout(engine, str(make_url(url).database))
         return engine
     settings = get_settings()
     return create_engine(

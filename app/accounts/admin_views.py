@@ -17,6 +17,7 @@ from app.accounts.service import (
 )
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
+from app.ids import UserId
 from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
 from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
@@ -65,7 +66,7 @@ def add_user(request: Request, session: SessionDep, login: AdminPost, form: Form
 
 
 @router.post("/{user_id}/disable")
-def disable_user(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+def disable_user(session: SessionDep, login: AdminPost, user_id: UserId) -> Response:
     """Disable an account and end its sessions (never your own)."""
     user = get_user(session, user_id)
     if user.id == login.user_id:
@@ -77,7 +78,7 @@ def disable_user(session: SessionDep, login: AdminPost, user_id: int) -> Respons
 
 
 @router.post("/{user_id}/enable")
-def enable_user(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+def enable_user(session: SessionDep, login: AdminPost, user_id: UserId) -> Response:
     """Enable an account again."""
     user = set_user_active(session, user=get_user(session, user_id), active=True)
     set_flash(session, login, f"{user.email} can sign in again.")
@@ -85,14 +86,14 @@ def enable_user(session: SessionDep, login: AdminPost, user_id: int) -> Response
 
 
 @router.get("/{user_id}/password")
-def password_form(request: Request, session: SessionDep, login: AdminLogin, user_id: int) -> Response:
+def password_form(request: Request, session: SessionDep, login: AdminLogin, user_id: UserId) -> Response:
     """The form to set a new password for an account."""
     return render(request, "accounts/user_password.html", {"account": get_user(session, user_id)})
 
 
 @router.post("/{user_id}/password")
 def reset_password(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep, user_id: int
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, user_id: UserId
 ) -> Response:
     """Set the new password and end the account's other sessions."""
     user = get_user(session, user_id)

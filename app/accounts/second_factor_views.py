@@ -14,8 +14,9 @@ from app.accounts.sessions import set_flash
 from app.accounts.views import safe_next
 from app.config import get_settings
 from app.errors import ServiceError
+from app.ids import UserId
 from app.web.deps import AdminPost, FormDep, PendingLogin, PendingPost, SessionDep
-from app.web.forms import FormErrors
+from app.web.forms import FormErrors, text
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -28,9 +29,9 @@ def _next_field(form: FormDep) -> str:
     return safe_next(value if isinstance(value, str) else None)
 
 
-def _code(form: FormDep) -> str:
-    value = form.get("code")
-    return value[:40] if isinstance(value, str) else ""
+def _code(form: FormDep, errors: FormErrors) -> str:
+    """The typed code under the text rule (a refused one is never counted as a wrong code)."""
+    return text(form, "code", errors, limit=40)
 
 
 def _code_page(request: Request, *, next_path: str, errors: FormErrors, status_code: int = 200) -> Response:
@@ -55,8 +56,11 @@ def submit_code(request: Request, session: SessionDep, login: PendingPost, form:
     """Accept the code once and let the session go on, or show the form again with the problem."""
     next_path = _next_field(form)
     errors = FormErrors()
+    code = _code(form, errors)
+    if errors:
+        return _code_page(request, next_path=next_path, errors=errors, status_code=422)
     try:
-        kind = second_factor.check_code(session, user=login.user, code=_code(form), settings=get_settings())
+        kind = second_factor.check_code(session, user=login.user, code=code, settings=get_settings())
     except ServiceError as error:
         errors.add_problems(error.problems, {"code": "code"}, "code")
         return _code_page(request, next_path=next_path, errors=errors, status_code=error.status)
@@ -105,10 +109,14 @@ def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost,
     settings = get_settings()
     if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
         return RedirectResponse(f"/login/code?next={next_path}", status_code=303)
+    errors = FormErrors()
+    code = _code(form, errors)
+    if errors:
+        enrolment = second_factor.start_enrolment(session, user=login.user, settings=settings)
+        return _enrol_page(request, enrolment=enrolment, next_path=next_path, errors=errors, status_code=422)
     try:
-        codes = second_factor.confirm_enrolment(session, user=login.user, code=_code(form), settings=settings)
+        codes = second_factor.confirm_enrolment(session, user=login.user, code=code, settings=settings)
     except ServiceError as error:
-        errors = FormErrors()
         errors.add_problems(error.problems, {"code": "code"}, "code")
         enrolment = second_factor.start_enrolment(session, user=login.user, settings=settings)
         return _enrol_page(
@@ -119,7 +127,7 @@ def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost,
 
 
 @router.post("/admin/users/{user_id}/two-factor/reset")
-def reset_second_factor(session: SessionDep, login: AdminPost, user_id: int) -> Response:
+def reset_second_factor(session: SessionDep, login: AdminPost, user_id: UserId) -> Response:
     """Remove an account's second factor: it enrols again at its next sign-in (recorded in the audit log)."""
     user = get_user(session, user_id)
     second_factor.reset_second_factor(session, user=user)

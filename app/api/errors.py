@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import re
 from collections.abc import Sequence
 from functools import lru_cache
@@ -11,9 +12,19 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel
+from sqlalchemy import exc as sa_exc
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from app.db import RETRY_AFTER_SECONDS, is_outage
 from app.errors import ServiceError
+
+outage_log = logging.getLogger("trikecert.database")
+# The database errors that may mean an outage; `is_outage` decides, the rest stay 500s.
+DATABASE_ERRORS: tuple[type[Exception], ...] = (
+    sa_exc.DBAPIError,
+    sa_exc.TimeoutError,
+    sa_exc.DisconnectionError,
+)
 
 
 class FieldProblemOut(BaseModel):
@@ -157,8 +168,65 @@ async def on_http_error(request: Request, exc: Exception) -> JSONResponse:
     return _json(exc.status_code, detail, problems, headers=headers or None)
 
 
+def note_outage(request: Request, error: BaseException) -> None:
+    """One warning line for a request the database could not serve: what failed, without a traceback.
+
+    The driver's first line only: SQLAlchemy's text goes on to quote the statement and its values.
+    """
+    cause = getattr(error, "orig", None) or error
+    reason = (str(cause).strip().splitlines() or [""])[0][:300]
+    outage_log.warning(
+        "database unavailable",
+        extra={
+            "fields": {
+                "request_id": getattr(request.state, "request_id", None),
+                "method": request.method,
+                "path": request.url.path,
+                "error": f"{type(cause).__name__}: {reason}",
+            }
+        },
+    )
+
+
+def retry_later_headers() -> dict[str, str]:
+    """The headers of a 503 answered while the database is away."""
+    return {"Retry-After": str(RETRY_AFTER_SECONDS)}
+
+
+UNAVAILABLE_MESSAGE = (
+    f"database: the database is not answering; try again in {RETRY_AFTER_SECONDS} seconds "
+    "(a request sent again with the same Idempotency-Key is never stored twice)"
+)
+
+
+# Documented on every API operation: any of them may meet a database that is away.
+UNAVAILABLE_RESPONSE: dict[int | str, dict[str, Any]] = {
+    503: {
+        "model": ErrorOut,
+        "description": "The database is not answering; send the request again after Retry-After seconds.",
+        "headers": {
+            "Retry-After": {
+                "description": "Seconds to wait before trying again.",
+                "schema": {"type": "integer"},
+            }
+        },
+    }
+}
+
+
+async def on_database_error(request: Request, exc: Exception) -> JSONResponse:
+    """503 with Retry-After while the database is away; any other database error stays a 500."""
+    if not is_outage(exc):
+        raise exc
+    note_outage(request, exc)
+    problem = FieldProblemOut(field="database", rule="unavailable", message=UNAVAILABLE_MESSAGE)
+    return _json(503, UNAVAILABLE_MESSAGE, [problem], headers=retry_later_headers())
+
+
 def install_error_handlers(app: FastAPI) -> None:
     """Register the JSON error handlers on the app."""
     app.add_exception_handler(RequestValidationError, on_validation_error)
     app.add_exception_handler(ServiceError, on_service_error)
     app.add_exception_handler(StarletteHTTPException, on_http_error)
+    for kind in DATABASE_ERRORS:
+        app.add_exception_handler(kind, on_database_error)

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import getpass
 import socket
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -49,10 +50,16 @@ def act_as(session: Session, actor: Actor) -> None:
     session.info[ACTOR_KEY] = actor
 
 
-def act_from_command_line() -> None:
-    """Record what this process does without a signed-in actor as done at the command line."""
+@contextmanager
+def acting_from_command_line() -> Iterator[None]:
+    """While a command runs, record what it does without a signed-in actor as done at the command line."""
     global _process_actor
+    previous = _process_actor
     _process_actor = Actor("command_line", None, f"{getpass.getuser()}@{socket.gethostname()}")
+    try:
+        yield
+    finally:
+        _process_actor = previous
 
 
 def _actor(session: Session) -> Actor:

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Annotated
-
-from fastapi import APIRouter, Query
+from fastapi import APIRouter
 from starlette.requests import Request
 from starlette.responses import Response
 
 from app.audit.service import list_events, verify_log
 from app.config import get_settings
+from app.ids import PageNumber
 from app.web.deps import AdminLogin, SessionDep
 from app.web.templating import render
 
@@ -22,7 +21,7 @@ def audit_page(
     request: Request,
     session: SessionDep,
     login: AdminLogin,
-    page: Annotated[int, Query(ge=1, le=1_000_000)] = 1,
+    page: PageNumber = 1,
 ) -> Response:
     """A page of the audit log, with the check of the whole chain above it."""
     events, total = list_events(session, page=page, page_size=PAGE_SIZE)

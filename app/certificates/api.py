@@ -14,6 +14,7 @@ from app.certificates.records import certificate_facts, certificate_status, get_
 from app.certificates.schemas import CertificateOut, RevocationOut
 from app.certificates.service import issue_certificate
 from app.config import get_settings
+from app.ids import InspectionId
 from app.stations.deps import SessionDep, StationDep
 
 router = APIRouter(tags=["certificates"])
@@ -69,7 +70,7 @@ def certificate_out(certificate: Certificate) -> CertificateOut:
     summary="Issue the certificate (or refusal) of one of this station's inspections",
 )
 def create_certificate(
-    inspection_id: int, session: SessionDep, station: StationDep, response: Response
+    inspection_id: InspectionId, session: SessionDep, station: StationDep, response: Response
 ) -> CertificateOut:
     """201 with a new certificate; 200 with the current one if the inspection is already certified.
 

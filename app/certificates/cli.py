@@ -13,6 +13,7 @@ from typing import Any
 from app.config import get_settings
 from app.db import get_sessionmaker
 from app.errors import InvalidInput
+from app.ids import cli_id
 
 
 def load_keys(source: str | None) -> dict[str, Any]:
@@ -133,7 +134,7 @@ def add_certificate_commands(commands: Any) -> None:
     verify.set_defaults(handler=cmd_verify)
 
     issue = commands.add_parser("issue-certificate", help="issue an inspection's certificate (admin)")
-    issue.add_argument("inspection_id", type=int)
+    issue.add_argument("inspection_id", type=cli_id)
     issue.set_defaults(handler=cmd_issue)
 
     reissue = commands.add_parser("reissue-certificate", help="reissue a certificate, superseding it (admin)")

@@ -17,6 +17,7 @@ from app.certificates.service import REASON_LENGTH, issue_certificate, revoke_ce
 from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
+from app.ids import InspectionId
 from app.inspections.wording import document_kind, issued_message, revoked_message
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.forms import FormErrors, text
@@ -36,7 +37,7 @@ def certificate_page(
 
 
 @router.post("/inspections/{inspection_id}/certificate")
-def issue_from_page(inspection_id: int, session: SessionDep, login: PostLogin) -> Response:
+def issue_from_page(inspection_id: InspectionId, session: SessionDep, login: PostLogin) -> Response:
     """Issue (or find) the inspection's certificate, then show it."""
     try:
         issued = issue_certificate(

@@ -5,7 +5,7 @@ from __future__ import annotations
 from decimal import Decimal
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Query, status
+from fastapi import APIRouter, Query, status
 from fastapi.responses import Response
 from sqlalchemy.orm import Session
 
@@ -14,6 +14,7 @@ from app.api.fields import Timestamp
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
+from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.inspections.schemas import (
     AveragedReadingsOut,
@@ -39,9 +40,6 @@ from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
 
 router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
-
-# Ids are INTEGER columns: larger numbers cannot name a stored inspection on any backend.
-MAX_ID = 2**31 - 1
 
 
 def wheel_readings(body: ReadingsIn) -> WheelReadings:
@@ -208,7 +206,7 @@ def create_inspection(
     summary="Read a stored inspection",
 )
 def read_inspection(
-    inspection_id: Annotated[int, Path(ge=1, le=MAX_ID, description="The id answered when it was stored.")],
+    inspection_id: InspectionId,
     session: SessionDep,
     station: StationDep,
 ) -> InspectionOut:

@@ -16,6 +16,7 @@ from app.accounts.sessions import set_flash
 from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
+from app.ids import IdChoice, InspectionId, PageNumber, parse_id
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
@@ -165,7 +166,7 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
 
 @router.get("/inspections/{inspection_id}")
 def inspection_page(
-    request: Request, session: SessionDep, login: CurrentLogin, inspection_id: int
+    request: Request, session: SessionDep, login: CurrentLogin, inspection_id: InspectionId
 ) -> Response:
     """Table 4, the verdict in words, the certified occupancy and the chart."""
     inspection = get_inspection(session, inspection_id)
@@ -183,23 +184,27 @@ VERDICTS = {"": None, "compliant": True, "not-compliant": False}
 
 
 @router.get("/inspections")
-def inspections_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+def inspections_page(
+    request: Request, session: SessionDep, login: CurrentLogin, station: IdChoice = "", page: PageNumber = 1
+) -> Response:
     """Inspections, newest first, filtered by verdict, station, dates and registration, a page at a time."""
     query = request.query_params
     errors = FormErrors()
     values = {
         name: query_text(query.get(name, ""), name, errors, limit=40)
-        for name in ("verdict", "station", "from", "to", "registration")
+        for name in ("verdict", "from", "to", "registration")
     }
+    values["station"] = query_text(station, "station", errors, limit=40)
     if values["verdict"] not in VERDICTS:
         errors.add("verdict", "Choose compliant, not compliant or all")
         values["verdict"] = ""
-    station_id = int(values["station"]) if values["station"].isdigit() else None
+    station_id = parse_id(station)
+    if station.strip() and station_id is None:
+        errors.add("station", "Choose a station from the list")
     since_day, until_day = read_date(values["from"], "from", errors), read_date(values["to"], "to", errors)
     if since_day and until_day and until_day < since_day:
         errors.add("to", "The 'to' date must be the same as or after the 'from' date")
         until_day = None
-    page = int(query["page"]) if query.get("page", "").isdigit() and int(query["page"]) > 0 else 1
     size = get_settings().page_size
     where = InspectionFilter(
         registration_number=values["registration"] or None,

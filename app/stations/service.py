@@ -12,6 +12,7 @@ from sqlalchemy.orm import Session
 
 from app.db import utcnow
 from app.errors import Conflict, NotFound
+from app.ids import parse_id
 from app.stations.details import StationDetails, apply_details, checked_details
 from app.stations.models import Station
 from app.text import checked
@@ -101,8 +102,8 @@ def find_station(session: Session, name_or_id: str) -> Station:
     """The station with this name (spaces tidied) or, failing that, this id; or NotFound."""
     name = " ".join(checked("station", name_or_id, max_length=NAME_LENGTH).split())
     station = session.scalar(select(Station).where(Station.name == name))
-    if station is None and name.isdigit() and len(name) < 10:
-        station = session.get(Station, int(name))
+    if station is None and (station_id := parse_id(name)) is not None:
+        station = session.get(Station, station_id)
     if station is None:
         raise NotFound(f"station: no station is named {name!r}", field="station", rule="exists")
     return station

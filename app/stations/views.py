@@ -25,6 +25,7 @@ from app.accounts.models import UserSession
 from app.accounts.sessions import set_flash
 from app.config import Settings, get_settings
 from app.errors import ServiceError
+from app.ids import StationId
 from app.stations.details import MAX_CAPACITY_KG, StationDetails
 from app.stations.models import Station
 from app.stations.service import (
@@ -257,14 +258,14 @@ def _station_page(
 
 
 @router.get("/admin/stations/{station_id}")
-def station_page(request: Request, session: SessionDep, login: AdminLogin, station_id: int) -> Response:
+def station_page(request: Request, session: SessionDep, login: AdminLogin, station_id: StationId) -> Response:
     """A station's details to edit, and the forms to rotate its key and disable or enable it."""
     return _station_page(request, get_station(session, station_id))
 
 
 @router.post("/admin/stations/{station_id}")
 def edit_station(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: int
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: StationId
 ) -> Response:
     """Store the new details, or show the form again with the problems (nothing stored)."""
     station = get_station(session, station_id)
@@ -286,7 +287,7 @@ def edit_station(
 
 @router.post("/admin/stations/{station_id}/key")
 def rotate_station_key(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: int
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: StationId
 ) -> Response:
     """Give the station a new key and show it once; the old key stops working at once."""
     station = get_station(session, station_id)
@@ -319,13 +320,13 @@ def _set_active(session: Session, login: UserSession, station_id: int, active: b
 
 
 @router.post("/admin/stations/{station_id}/disable")
-def disable_station(session: SessionDep, login: AdminPost, station_id: int) -> Response:
+def disable_station(session: SessionDep, login: AdminPost, station_id: StationId) -> Response:
     """Refuse the station's key (401) until it is enabled again."""
     return _set_active(session, login, station_id, active=False)
 
 
 @router.post("/admin/stations/{station_id}/enable")
-def enable_station(session: SessionDep, login: AdminPost, station_id: int) -> Response:
+def enable_station(session: SessionDep, login: AdminPost, station_id: StationId) -> Response:
     """Accept the station's key again."""
     return _set_active(session, login, station_id, active=True)
 

@@ -11,6 +11,7 @@ from sqlalchemy import select
 from starlette.requests import Request
 from starlette.responses import Response
 
+from app.ids import IdChoice, parse_id
 from app.stations.models import Station
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
 from app.web.deps import CurrentLogin, SessionDep
@@ -22,12 +23,13 @@ router = APIRouter(include_in_schema=False)
 DEFAULT_DAYS = 30
 
 
-def read_filters(request: Request, errors: FormErrors) -> tuple[dict[str, str], Period, int | None]:
+def read_filters(
+    request: Request, errors: FormErrors, station: str = ""
+) -> tuple[dict[str, str], Period, int | None]:
     """The period (default: the last 30 days, today included) and station asked for, or the errors."""
     query = request.query_params
-    values = {
-        name: query_text(query.get(name, ""), name, errors, limit=40) for name in ("from", "to", "station")
-    }
+    values = {name: query_text(query.get(name, ""), name, errors, limit=40) for name in ("from", "to")}
+    values["station"] = query_text(station, "station", errors, limit=40)
     today = local_today()
     last = read_date(values["to"], "to", errors) or today
     first = read_date(values["from"], "from", errors) or last - timedelta(days=DEFAULT_DAYS - 1)
@@ -37,23 +39,26 @@ def read_filters(request: Request, errors: FormErrors) -> tuple[dict[str, str], 
     elif (last - first).days + 1 > MAX_DAYS:
         errors.add("from", f"Choose a period of at most {MAX_DAYS} days")
         first = last - timedelta(days=MAX_DAYS - 1)
-    station = values["station"]
-    station_id = int(station) if station.isdigit() and len(station) < 10 else None
-    if station and station_id is None:
+    station_id = parse_id(station)
+    if station.strip() and station_id is None:
         errors.add("station", "Choose a station from the list")
     return values, Period(first, last), station_id
 
 
-def _statistics(request: Request, session: SessionDep) -> tuple[dict[str, str], Statistics, FormErrors]:
+def _statistics(
+    request: Request, session: SessionDep, station: str
+) -> tuple[dict[str, str], Statistics, FormErrors]:
     errors = FormErrors()
-    values, period, station_id = read_filters(request, errors)
+    values, period, station_id = read_filters(request, errors, station)
     return values, statistics(session, period=period, zone=local_zone() or UTC, station_id=station_id), errors
 
 
 @router.get("/statistics")
-def statistics_page(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+def statistics_page(
+    request: Request, session: SessionDep, login: CurrentLogin, station: IdChoice = ""
+) -> Response:
     """Totals, inspections per day and per station, and certificates, for a period and a station."""
-    values, stats, errors = _statistics(request, session)
+    values, stats, errors = _statistics(request, session, station)
     stations = session.scalars(select(Station).order_by(Station.name)).all()
     return render(
         request,
@@ -72,9 +77,11 @@ def statistics_page(request: Request, session: SessionDep, login: CurrentLogin) 
 
 
 @router.get("/statistics.csv")
-def statistics_csv(request: Request, session: SessionDep, login: CurrentLogin) -> Response:
+def statistics_csv(
+    request: Request, session: SessionDep, login: CurrentLogin, station: IdChoice = ""
+) -> Response:
     """The same period's counts per day as CSV, for a spreadsheet."""
-    _values, stats, errors = _statistics(request, session)
+    _values, stats, errors = _statistics(request, session, station)
     if errors:
         return Response("; ".join(errors.messages.values()), status_code=422, media_type="text/plain")
     out = io.StringIO()

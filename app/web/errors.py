@@ -11,6 +11,8 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.api.errors import DATABASE_ERRORS, note_outage, retry_later_headers
+from app.db import is_outage
 from app.errors import ServiceError
 from app.web.csrf import CsrfRefused
 from app.web.deps import Forbidden, SignInRequired
@@ -25,6 +27,7 @@ TITLES = {
     405: "Sorry, that did not work",
     413: "The form is too large",
     422: "Sorry, there is a problem with this request",
+    503: "Sorry, the service is not available right now",
 }
 
 
@@ -35,8 +38,10 @@ def wants_html(request: Request) -> bool:
     return "text/html" in request.headers.get("accept", "") or request.method == "POST"
 
 
-def error_page(request: Request, status: int, message: str, *, title: str | None = None) -> Response:
-    """The HTML page of a refusal."""
+def error_page(
+    request: Request, status: int, message: str, *, title: str | None = None, retry_url: str | None = None
+) -> Response:
+    """The HTML page of a refusal; `retry_url` offers to load the page again instead of going home."""
     return render(
         request,
         "errors/error.html",
@@ -44,6 +49,7 @@ def error_page(request: Request, status: int, message: str, *, title: str | None
             "title": title or TITLES.get(status, "Sorry, there is a problem"),
             "message": message,
             "status": status,
+            "retry_url": retry_url,
         },
         status_code=status,
     )
@@ -97,15 +103,37 @@ def _validation_page(request: Request, _exc: Exception) -> Response:
     return error_page(request, 404, "Check the address, or use the links above.")
 
 
+def _outage_page(request: Request, exc: Exception) -> Response:
+    if not is_outage(exc):
+        raise exc
+    note_outage(request, exc)
+    # The layout would show the signed-in officer, whose record may not be loaded yet: no database now.
+    request.state.login = None
+    if request.method == "GET":
+        query = f"?{request.url.query}" if request.url.query else ""
+        message, retry_url = "The database is not answering. Try again in a moment.", request.url.path + query
+    else:
+        message, retry_url = (
+            "The database is not answering, so this may not have been saved. In a moment, "
+            "go back and send the form again: a form sent twice is stored only once.",
+            None,
+        )
+    response = error_page(request, 503, message, retry_url=retry_url)
+    response.headers.update(retry_later_headers())
+    return response
+
+
 def install_web_error_handlers(app: FastAPI) -> None:
     """Answer page requests in HTML; hand API requests to the handlers already installed."""
     app.add_exception_handler(SignInRequired, on_sign_in_required)
     app.add_exception_handler(CsrfRefused, on_csrf_refused)
     app.add_exception_handler(Forbidden, on_forbidden)
-    for kind, page in (
+    pages: list[tuple[type[Exception], Callable[[Request, Exception], Response]]] = [
         (StarletteHTTPException, _http_page),
         (ServiceError, _service_page),
         (RequestValidationError, _validation_page),
-    ):
+        *((kind, _outage_page) for kind in DATABASE_ERRORS),
+    ]
+    for kind, page in pages:
         previous = app.exception_handlers.get(kind)
         app.add_exception_handler(kind, _fallback(previous, page))  # type: ignore[arg-type]
