@@ -61,8 +61,9 @@ def passed(record: UserSession, settings: Settings) -> bool:
 
 
 def start_enrolment(session: Session, *, user: User, settings: Settings) -> Enrolment:
-    """A pending secret for the user (kept until confirmed, so reloading the page shows the same)."""
-    if user.totp_secret is None or is_enrolled(user):
+    """A pending secret for a user not yet enrolled (kept until confirmed, so reloading the page
+    shows the same)."""
+    if user.totp_secret is None:
         begin_write(session)
         user.totp_secret, user.totp_confirmed_at, user.totp_last_step = pyotp.random_base32(), None, None
         session.commit()

@@ -96,8 +96,10 @@ def enrol_form(
     request: Request, session: SessionDep, login: PendingLogin, next_path: NextPath = None
 ) -> Response:
     """Set up the second factor: the QR code and the secret in text, and a code to confirm them."""
-    if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
-        return RedirectResponse(f"/login/code?next={safe_next(next_path)}", status_code=303)
+    if second_factor.is_enrolled(login.user):
+        if login.second_factor_at is None:
+            return RedirectResponse(f"/login/code?next={safe_next(next_path)}", status_code=303)
+        return render(request, "accounts/enrolled.html", {})
     enrolment = second_factor.start_enrolment(session, user=login.user, settings=get_settings())
     return _enrol_page(request, enrolment=enrolment, next_path=safe_next(next_path), errors=FormErrors())
 
@@ -107,8 +109,8 @@ def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost,
     """Turn the second factor on once a code from the app is right; show the recovery codes once."""
     next_path = _next_field(form)
     settings = get_settings()
-    if second_factor.is_enrolled(login.user) and login.second_factor_at is None:
-        return RedirectResponse(f"/login/code?next={next_path}", status_code=303)
+    if second_factor.is_enrolled(login.user):  # set up already: a new phone needs an admin's reset
+        return RedirectResponse(f"/account/two-factor?next={next_path}", status_code=303)
     errors = FormErrors()
     code = _code(form, errors)
     if errors:
