@@ -13,7 +13,7 @@ from datetime import date
 from decimal import Decimal, InvalidOperation
 
 from app.certificates.cli import add_certificate_commands
-from app.config import get_settings
+from app.config import get_settings, trusted_proxies
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
 from app.stations.details import StationDetails, details_of
@@ -38,13 +38,17 @@ def cmd_serve(args: argparse.Namespace) -> int:
     if args.workers > 1 and not os.environ.get("PROMETHEUS_MULTIPROC_DIR"):
         # Workers are separate processes: they share request metrics through files in this folder.
         os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
+    proxies = trusted_proxies(get_settings().forwarded_allow_ips)
     uvicorn.run(
         "app.main:create_app",
         factory=True,
         host=args.host,
         port=args.port,
         workers=args.workers,
-        proxy_headers=True,
+        # X-Forwarded-Proto/-For count only from the proxies named in TRIKECERT_FORWARDED_ALLOW_IPS.
+        proxy_headers=bool(proxies),
+        forwarded_allow_ips=proxies or None,
+        server_header=False,
         log_level="info",
         access_log=False,
     )
