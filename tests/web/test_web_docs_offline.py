@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from urllib.parse import urlsplit
 
 import pytest
-from playwright.sync_api import Browser, BrowserType, Page, Route, expect
+from playwright.sync_api import Browser, BrowserType, ConsoleMessage, Page, Route, expect
 
 from web.webtools import CHROMIUM, CHROMIUM_ARGS
 
@@ -67,8 +67,13 @@ def offline(browser_type: BrowserType, live_server: str) -> Iterator[Offline]:
     context = browser.new_context(viewport={"width": 1280, "height": 900})
     context.route("**/*", only_the_service)
     page = context.new_page()
-    # A script the page's policy refused would leave the page half-built: count it as a failure.
-    page.on("console", lambda message: message.type == "error" and errors.append(message.text))
+
+    def on_console(message: ConsoleMessage) -> None:
+        # A script the page's policy refused would leave the page half-built: count it as a failure.
+        if message.type == "error":
+            errors.append(message.text)
+
+    page.on("console", on_console)
     try:
         yield Offline(page, f"http://{HOST}:{port}", leaks, errors)
     finally:
