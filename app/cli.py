@@ -167,8 +167,10 @@ def cmd_create_user(args: argparse.Namespace) -> int:
     else:
         password = sys.stdin.readline().rstrip("\r\n")
     with get_sessionmaker()() as session:
-        user = create_user(session, email=args.email, password=password, role=args.role)
-    print(f"user {user.id} {user.email} ({user.role}) created")
+        user = create_user(
+            session, email=args.email, password=password, role=args.role, name=args.name, badge=args.badge
+        )
+    print(f"user {user.id} {user.email} ({user.role}) created: {user.shown_as()}")
     return 0
 
 
@@ -259,6 +261,8 @@ def build_parser() -> argparse.ArgumentParser:
     user = commands.add_parser("create-user", help="create an account (password from standard input)")
     user.add_argument("email")
     user.add_argument("--role", choices=["officer", "admin"], required=True)
+    user.add_argument("--name", required=True, help="the person's name, as certificates print it")
+    user.add_argument("--badge", help="the officer's badge number (optional)")
     user.set_defaults(handler=cmd_create_user)
 
     demo = commands.add_parser("demo", help="load the study's vehicle and its inspection")

@@ -5,11 +5,13 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Header, Path
+from sqlalchemy.orm import Session, object_session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts.sessions import set_flash
-from app.certificates.actors import Actor
+from app.certificates.actors import Actor, issued_by, recorded_by
+from app.certificates.facts import Facts
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate
@@ -17,6 +19,7 @@ from app.certificates.service import issue_certificate, revoke_certificate
 from app.certificates.views import HEADLINES
 from app.config import get_settings
 from app.errors import ServiceError
+from app.inspections.models import Inspection
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.templating import render
 
@@ -30,6 +33,8 @@ def certificate_page(
     """The certificate as the public sees it, with the officer's download link and the admin's revoke form."""
     status = certificate_status(certificate)
     facts = certificate_facts(certificate)
+    session = object_session(certificate)
+    assert session is not None
     return render(
         request,
         "certificates/verify.html",
@@ -41,11 +46,30 @@ def certificate_page(
             "headline": HEADLINES[status],
             "payload": None,
             "officer": True,
+            "people": people_of(session, certificate, facts),
             "errors": errors or {},
             "values": {"reason": reason},
         },
         status_code=422 if errors else 200,
     )
+
+
+def people_of(session: Session, certificate: Certificate, facts: Facts) -> list[tuple[str, str]]:
+    """Who recorded the weighing and who issued the document, by name and badge as the accounts
+    have them now (older documents printed an email), and the calibration the document printed."""
+    inspection = session.get(Inspection, certificate.inspection_id)
+    assert inspection is not None
+    issuer = issued_by(
+        session,
+        user_id=certificate.issued_by_user_id,
+        station_id=certificate.issued_by_station_id,
+        label=certificate.issued_by,
+    )
+    return [
+        ("Weighing recorded by", recorded_by(session, inspection)),
+        ("Issued by", issuer),
+        ("Scale calibration", facts.calibration),
+    ]
 
 
 @router.post("/inspections/{inspection_id}/certificate")

@@ -135,8 +135,9 @@ def render_pdf(document: CertificateDocument) -> bytes:
         "Inspection",
         [
             ("Station", inspection.station or "not recorded"),
-            ("Scale calibration", inspection.scale_calibration or "not recorded"),
-            ("Officer", inspection.officer or "none (station submission)"),
+            ("Scale calibration", facts.calibration),
+            ("Recorded by", facts.recorded_by),
+            ("Issued by", facts.issuer),
             ("Date and time", when(inspection.weighed_at)),
             ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
         ],
