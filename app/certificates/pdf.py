@@ -136,13 +136,12 @@ def render_pdf(document: CertificateDocument) -> bytes:
         [
             ("Station", inspection.station or "not recorded"),
             ("Scale calibration", facts.calibration),
-            ("Recorded by", facts.recorded_by),
-            ("Issued by", facts.issuer),
             ("Date and time", when(inspection.weighed_at)),
             ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
         ],
     )
-    pdf.set_y(max(left, right) + 3)
+    pdf.set_y(max(left, right) + 1.5)
+    _people(pdf, facts)
     _readings(pdf, facts)
     _verdict(pdf, document)
     _table(pdf, facts)
@@ -175,6 +174,19 @@ def _header(pdf: FPDF, document: CertificateDocument) -> None:
     pdf.set_line_width(0.5)
     pdf.line(MARGIN, pdf.get_y() + 1.5, PAGE_W - MARGIN, pdf.get_y() + 1.5)
     pdf.set_line_width(0.2)
+
+
+def _people(pdf: FPDF, facts: Facts) -> None:
+    # One full-width line (two columns would each wrap a name and badge).
+    pdf.set_font("helvetica", "", 9)
+    pdf.multi_cell(
+        CONTENT_W,
+        4.5,
+        latin1(f"Recorded by {facts.recorded_by}. Issued by {facts.issuer}."),
+        new_x="LMARGIN",
+        new_y="NEXT",
+    )
+    pdf.ln(1.5)
 
 
 def _readings(pdf: FPDF, facts: Facts) -> None:
