@@ -23,6 +23,8 @@ from web.webtools import CHROMIUM, CHROMIUM_ARGS
 pytestmark = pytest.mark.browser
 
 HOST = "trikecert.intranet.test"
+# ms to wait for the first operation: a 1-2 MB bundle on a loaded machine (not a speed test)
+RENDERED = 60_000
 # The one thing the policy stops: ReDoc's footer logo on its maker's CDN (it then hides the image).
 REFUSED_IMAGE = re.compile(
     r"^(Loading|Refused to load) the image 'https://cdn\.redoc\.ly/[^']*'.*Content Security Policy"
@@ -99,7 +101,7 @@ def test_swagger_ui_lists_every_operation_with_the_network_cut_off(
     operations = _operations(live_server)
     assert len(operations) >= 5
     page.goto(f"{offline.base}/docs")
-    expect(page.locator(".opblock").first).to_be_visible()
+    expect(page.locator(".opblock").first).to_be_visible(timeout=RENDERED)
     expect(page.locator(".opblock")).to_have_count(len(operations))
     for method, path, _summary in operations:
         block = page.locator(f".opblock-{method.lower()}", has=page.locator(f'[data-path="{path}"]'))
@@ -112,6 +114,7 @@ def test_redoc_lists_every_operation_with_the_network_cut_off(offline: Offline, 
     page = offline.page
     operations = _operations(live_server)
     page.goto(f"{offline.base}/redoc")
+    expect(page.locator("h2").first).to_be_attached(timeout=RENDERED)
     for _method, _path, summary in operations:
         expect(page.locator("h2", has_text=summary).first).to_be_attached()
     expect(page.get_by_role("img", name="redocly logo")).to_have_count(0)  # hidden, not a broken image
