@@ -17,7 +17,7 @@ from pydantic import ValidationError
 from app import __version__
 from app.audit.recorder import acting_from_command_line
 from app.certificates.cli import add_certificate_commands
-from app.config import get_settings, settings_problems
+from app.config import get_settings, settings_problems, trusted_proxies
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
 from app.stations.details import StationDetails, details_of
@@ -44,13 +44,17 @@ def cmd_serve(args: argparse.Namespace) -> int:
     if args.workers > 1 and not os.environ.get("PROMETHEUS_MULTIPROC_DIR"):
         # Workers are separate processes: they share request metrics through files in this folder.
         os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
+    proxies = trusted_proxies(get_settings().forwarded_allow_ips)
     uvicorn.run(
         "app.main:create_app",
         factory=True,
         host=args.host,
         port=args.port,
         workers=args.workers,
-        proxy_headers=True,
+        # X-Forwarded-Proto/-For count only from the proxies named in TRIKECERT_FORWARDED_ALLOW_IPS.
+        proxy_headers=bool(proxies),
+        forwarded_allow_ips=proxies or None,
+        server_header=False,
         log_level="info",
         access_log=False,
     )
@@ -169,8 +173,10 @@ def cmd_create_user(args: argparse.Namespace) -> int:
     else:
         password = sys.stdin.readline().rstrip("\r\n")
     with get_sessionmaker()() as session:
-        user = create_user(session, email=args.email, password=password, role=args.role)
-    print(f"user {user.id} {user.email} ({user.role}) created")
+        user = create_user(
+            session, email=args.email, password=password, role=args.role, name=args.name, badge=args.badge
+        )
+    print(f"user {user.id} {user.email} ({user.role}) created: {user.shown_as()}")
     if get_settings().mfa_mode() == "required":
         print("at the first sign-in they set up a second factor: an authenticator app on their phone")
     else:
@@ -269,6 +275,8 @@ def build_parser() -> argparse.ArgumentParser:
     user = commands.add_parser("create-user", help="create an account (password from standard input)")
     user.add_argument("email")
     user.add_argument("--role", choices=["officer", "admin"], required=True)
+    user.add_argument("--name", required=True, help="the person's name, as certificates print it")
+    user.add_argument("--badge", help="the officer's badge number (optional)")
     user.set_defaults(handler=cmd_create_user)
 
     audit = commands.add_parser(

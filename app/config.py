@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ipaddress
 from decimal import Decimal
 from functools import lru_cache
 from typing import Literal
@@ -69,6 +70,16 @@ class Settings(BaseSettings):
     worker_threads: int = Field(default=16, ge=1, le=200)
     db_pool_size: int = Field(default=16, ge=1, le=200)
     db_max_overflow: int = Field(default=4, ge=0, le=200)
+    # /metrics answers only `Authorization: Bearer <token>`; unset: off (404) in production, open otherwise.
+    metrics_token: SecretStr | None = Field(default=None, min_length=16)
+    # Proxies whose X-Forwarded-Proto/-For uvicorn believes (IPs or networks, comma-separated; "*": any).
+    forwarded_allow_ips: str = ""
+
+    @field_validator("forwarded_allow_ips")
+    @classmethod
+    def check_forwarded_allow_ips(cls, value: str) -> str:
+        """Each entry an IP address or network, or "*"."""
+        return ",".join(trusted_proxies(value))
 
     @field_validator("app_db_role")
     @classmethod
@@ -129,6 +140,20 @@ def settings_problems(error: ValidationError) -> list[str]:
         field = ".".join(str(part) for part in problem["loc"])
         lines.append(f"TRIKECERT_{field.upper()}: {message}" if field else message)
     return lines
+
+
+def trusted_proxies(value: str) -> list[str]:
+    """The entries of TRIKECERT_FORWARDED_ALLOW_IPS; a ValueError names the first that is no IP or network."""
+    entries = [entry.strip() for entry in value.split(",") if entry.strip()]
+    for entry in entries:
+        if entry != "*":
+            try:
+                ipaddress.ip_network(entry)  # strict, as uvicorn reads it
+            except ValueError:
+                raise ValueError(
+                    f"TRIKECERT_FORWARDED_ALLOW_IPS: {entry!r} is not an IP address or network"
+                ) from None
+    return entries
 
 
 @lru_cache

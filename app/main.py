@@ -15,9 +15,11 @@ from app.api.limits import BodySizeLimit
 from app.api.router import api_router
 from app.certificates.public import public_router
 from app.config import get_settings
+from app.ops.docs import install_docs
 from app.ops.health import router as health_router
 from app.ops.metrics import router as metrics_router
 from app.ops.requests import RequestContext, configure_logging
+from app.web.headers import install_security_headers
 from app.web.setup import install_web
 
 DESCRIPTION = """\
@@ -45,14 +47,23 @@ def create_app() -> FastAPI:
     """Build the application from the current settings."""
     settings = get_settings()
     configure_logging()
-    app = FastAPI(title="trikecert", version=__version__, description=DESCRIPTION, lifespan=lifespan)
+    app = FastAPI(
+        title="trikecert",
+        version=__version__,
+        description=DESCRIPTION,
+        lifespan=lifespan,
+        docs_url=None,  # install_docs: served from the package, not a CDN
+        redoc_url=None,
+    )
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.include_router(api_router)
     app.include_router(public_router)
     app.include_router(health_router)
     app.include_router(metrics_router)
+    install_docs(app)
     install_web(app)  # the officer pages; after the API's error handlers
     app.add_middleware(RequestContext)
+    install_security_headers(app)
 
     return app

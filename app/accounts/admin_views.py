@@ -1,4 +1,5 @@
-"""Administrator pages: list accounts, add one, disable or enable it, set a new password."""
+"""Administrator pages: list accounts, add one, change its name and badge, disable or enable it,
+set a new password."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from app.accounts.service import (
     list_users,
     set_password,
     set_user_active,
+    set_user_details,
 )
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
@@ -23,6 +25,13 @@ from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
 
 router = APIRouter(prefix="/admin/users", include_in_schema=False)
+NEW_USER_INPUTS = {
+    "email": "email",
+    "name": "name",
+    "badge": "badge",
+    "role": "role-officer",
+    "password": "password",
+}
 
 
 @router.get("")
@@ -41,18 +50,28 @@ def new_user_form(request: Request, login: AdminLogin) -> Response:
 def add_user(request: Request, session: SessionDep, login: AdminPost, form: FormDep) -> Response:
     """Create the account, or show the form again with the problems."""
     errors = FormErrors()
-    values = {"email": text(form, "email", errors, limit=254), "role": text(form, "role", errors, limit=16)}
+    values = {
+        "email": text(form, "email", errors, limit=254),
+        "name": text(form, "name", errors, limit=1000),  # the service refuses a long one, never cuts it
+        "badge": text(form, "badge", errors, limit=1000),
+        "role": text(form, "role", errors, limit=16),
+    }
     password = secret(form, "password", errors, limit=MAX_PASSWORD_LENGTH)
     if "role" in errors.messages:  # the role is a radio button: its message goes beside the first one
         errors.messages["role-officer"] = errors.messages.pop("role")
     status = 422
     if not errors:
         try:
-            user = create_user(session, email=values["email"], password=password, role=values["role"])
-        except ServiceError as error:
-            errors.add_problems(
-                error.problems, {"email": "email", "role": "role-officer", "password": "password"}, "email"
+            user = create_user(
+                session,
+                email=values["email"],
+                password=password,
+                role=values["role"],
+                name=values["name"],
+                badge=values["badge"],
             )
+        except ServiceError as error:
+            errors.add_problems(error.problems, NEW_USER_INPUTS, "email")
             status = error.status if error.status != 409 else 422
     if errors:
         return render(
@@ -62,6 +81,42 @@ def add_user(request: Request, session: SessionDep, login: AdminPost, form: Form
             status_code=status,
         )
     set_flash(session, login, f"Account {user.email} ({user.role}) created.")
+    return RedirectResponse("/admin/users", status_code=303)
+
+
+@router.get("/{user_id}/edit")
+def details_form(request: Request, session: SessionDep, login: AdminLogin, user_id: UserId) -> Response:
+    """The form to change an account's name and badge number."""
+    account = get_user(session, user_id)
+    values = {"name": account.display_name or "", "badge": account.badge_number or ""}
+    return render(request, "accounts/user_edit.html", {"account": account, "values": values})
+
+
+@router.post("/{user_id}/edit")
+def save_details(
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep, user_id: UserId
+) -> Response:
+    """Save the name and badge number, or show the form again with the problem."""
+    account = get_user(session, user_id)
+    errors = FormErrors()
+    values = {
+        "name": text(form, "name", errors, limit=1000),
+        "badge": text(form, "badge", errors, limit=1000),
+    }
+    if not errors:
+        try:
+            set_user_details(session, user=account, name=values["name"], badge=values["badge"])
+        except ServiceError as error:
+            session.rollback()
+            errors.add_problems(error.problems, {"name": "name", "badge": "badge"}, "name")
+    if errors:
+        return render(
+            request,
+            "accounts/user_edit.html",
+            {"account": account, "values": values, "errors": errors.messages},
+            status_code=422,
+        )
+    set_flash(session, login, f"{account.email} is now shown as {account.shown_as()}.")
     return RedirectResponse("/admin/users", status_code=303)
 
 

@@ -27,6 +27,15 @@ class User(Base):
     totp_secret: Mapped[str | None] = mapped_column(String(64))
     totp_confirmed_at: Mapped[datetime | None] = mapped_column(UTCDateTime())
     totp_last_step: Mapped[int | None] = mapped_column(BigInteger)
+    # How documents and pages name the person (None only for accounts made before names were kept).
+    display_name: Mapped[str | None] = mapped_column(String(100))
+    badge_number: Mapped[str | None] = mapped_column(String(32))
+
+    def shown_as(self) -> str:
+        """The person as documents name them, never by email: 'Amina Bello (badge 4471)'."""
+        role = "administrator" if self.role == "admin" else "officer"
+        name = self.display_name or f"{role} no. {self.id} (no name on record)"
+        return f"{name} (badge {self.badge_number})" if self.badge_number else name
 
 
 class UserSession(Base):

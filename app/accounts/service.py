@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import unicodedata
 from collections.abc import Sequence
 
 from argon2 import PasswordHasher
@@ -20,6 +21,9 @@ MIN_PASSWORD_LENGTH = 10
 MAX_PASSWORD_LENGTH = 1024
 EMAIL_LENGTH = 254
 _EMAIL = re.compile(r"^[^@\s]+@[^@\s]+\.[^@\s]+$")
+MAX_NAME_LENGTH = 100
+MAX_BADGE_LENGTH = 32
+_BADGE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9 ./-]*$")
 _hasher = PasswordHasher()
 
 
@@ -50,8 +54,55 @@ def check_password_rules(password: str) -> None:
         )
 
 
-def create_user(session: Session, *, email: str, password: str, role: str) -> User:
-    """Store a new account; the email must be new and the role officer or admin."""
+def display_name(value: str) -> str:
+    """The person's name as documents print it: NFC, single spaces; refused empty, too long or unprintable."""
+    name = " ".join(unicodedata.normalize("NFC", value).split())
+    if not name:
+        raise InvalidInput(
+            "name: enter the person's name as certificates should print it", field="name", rule="required"
+        )
+    if len(name) > MAX_NAME_LENGTH:
+        raise InvalidInput(
+            f"name: keep the name to {MAX_NAME_LENGTH} characters (it has {len(name)})",
+            field="name",
+            rule="max_length",
+        )
+    if any(unicodedata.category(character) in ("Cc", "Cf", "Cs", "Co", "Cn") for character in name):
+        raise InvalidInput(
+            "name: use letters, spaces and punctuation only (no control or invisible characters)",
+            field="name",
+            rule="characters",
+        )
+    return name
+
+
+def badge_number(value: str | None) -> str | None:
+    """An officer's badge number (optional): letters, digits, spaces, '.', '/', '-', up to 32 characters."""
+    badge = " ".join((value or "").split())
+    if not badge:
+        return None
+    if len(badge) > MAX_BADGE_LENGTH or not _BADGE.match(badge):
+        raise InvalidInput(
+            f"badge: use up to {MAX_BADGE_LENGTH} letters, digits, spaces, '.', '/' or '-', like NSCDC/4471",
+            field="badge",
+            rule="format",
+        )
+    return badge
+
+
+def create_user(
+    session: Session,
+    *,
+    email: str,
+    password: str,
+    role: str,
+    name: str | None = None,
+    badge: str | None = None,
+) -> User:
+    """Store a new account; the email must be new and the role officer or admin.
+
+    The pages and the command line always give a name; None is only for callers that predate names.
+    """
     email = normalise_email(email)
     if not _EMAIL.match(email):
         raise InvalidInput(
@@ -59,11 +110,23 @@ def create_user(session: Session, *, email: str, password: str, role: str) -> Us
         )
     if role not in ROLES:
         raise InvalidInput("role: choose officer or admin", field="role", rule="choice")
+    shown = display_name(name) if name is not None else None
+    badge = badge_number(badge)
     check_password_rules(password)
     if session.scalar(select(User.id).where(func.lower(User.email) == email)) is not None:
         raise Conflict(f"email: an account for {email} already exists", field="email", rule="unique")
-    user = User(email=email, password_hash=hash_password(password), role=role)
+    user = User(
+        email=email, password_hash=hash_password(password), role=role, display_name=shown, badge_number=badge
+    )
     session.add(user)
+    session.commit()
+    return user
+
+
+def set_user_details(session: Session, *, user: User, name: str, badge: str | None) -> User:
+    """Change the name and badge number an account is shown by (documents already issued keep theirs)."""
+    user.display_name = display_name(name)
+    user.badge_number = badge_number(badge)
     session.commit()
     return user
 

@@ -1,13 +1,20 @@
-"""Who acts on certificates, as the audit log names them, and the refusal when they may not."""
+"""Who acts on certificates: as the audit log names them, as documents and officers' pages name them
+(by name and badge, never by email), and the refusal when they may not."""
 
 from __future__ import annotations
 
 import getpass
 from dataclasses import dataclass
 
+from sqlalchemy.orm import Session
+
 from app.accounts.models import User
 from app.errors import ServiceError
+from app.inspections.models import Inspection
 from app.stations.models import Station
+
+COMMAND_LINE = "an administrator at the server (command line)"
+NOT_RECORDED = "not recorded"
 
 
 class Forbidden(ServiceError):
@@ -24,18 +31,57 @@ class Actor:
     station_id: int | None = None
     user_id: int | None = None
     admin: bool = False
+    shown_as: str = NOT_RECORDED  # as a document names who issued it
 
     @classmethod
     def of_station(cls, station: Station) -> Actor:
         """A weighbridge station, through the API."""
-        return cls(label=f"station:{station.id}:{station.name}"[:200], station_id=station.id)
+        return cls(
+            label=f"station:{station.id}:{station.name}"[:200],
+            station_id=station.id,
+            shown_as=station_shown_as(station),
+        )
 
     @classmethod
     def of_user(cls, user: User) -> Actor:
         """An officer or admin, through the pages."""
-        return cls(label=f"user:{user.id}:{user.email}"[:200], user_id=user.id, admin=user.role == "admin")
+        return cls(
+            label=f"user:{user.id}:{user.email}"[:200],
+            user_id=user.id,
+            admin=user.role == "admin",
+            shown_as=user.shown_as(),
+        )
 
     @classmethod
     def of_cli(cls) -> Actor:
         """Whoever runs the `trikecert` command on the server (an administrator)."""
-        return cls(label=f"cli:{getpass.getuser()}"[:200], admin=True)
+        return cls(label=f"cli:{getpass.getuser()}"[:200], admin=True, shown_as=COMMAND_LINE)
+
+
+def station_shown_as(station: Station | str) -> str:
+    """A station (or its name) as documents name it when it acted by itself."""
+    return f"{station if isinstance(station, str) else station.name} (weighbridge station)"
+
+
+def officer_of(session: Session, inspection: Inspection) -> User | None:
+    """The officer who recorded the weighing, if one did."""
+    return session.get(User, inspection.user_id) if inspection.user_id is not None else None
+
+
+def recorded_by(session: Session, inspection: Inspection) -> str:
+    """Who recorded a weighing: the officer by name and badge, else the station that submitted it."""
+    officer = officer_of(session, inspection)
+    if officer is not None:
+        return officer.shown_as()
+    if inspection.station is not None:
+        return station_shown_as(inspection.station)
+    return NOT_RECORDED
+
+
+def issued_by(session: Session, *, user_id: int | None, station_id: int | None, label: str) -> str:
+    """Who issued a document, from what its row keeps (the issuer's ids and audit label)."""
+    if user_id is not None and (user := session.get(User, user_id)) is not None:
+        return user.shown_as()
+    if station_id is not None and (station := session.get(Station, station_id)) is not None:
+        return station_shown_as(station)
+    return COMMAND_LINE if label.startswith("cli:") else NOT_RECORDED

@@ -7,13 +7,13 @@ public verify page show, so a later change to a vehicle or an inspection never a
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from datetime import datetime
+from datetime import date, datetime
 from decimal import Decimal
 from typing import Any
 
 from sqlalchemy.orm import Session
 
-from app.accounts.models import User
+from app.certificates.actors import NOT_RECORDED, officer_of, station_shown_as
 from app.inspections.models import Inspection
 from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
@@ -44,7 +44,7 @@ class InspectionFacts:
     id: int
     weighed_at: datetime
     station: str | None
-    officer: str | None
+    officer: str | None  # the officer who recorded it, by name and badge (an email in older snapshots)
     scale_calibration: str | None
     rules_version: str
     occupant_mass_kg: Decimal
@@ -88,6 +88,24 @@ class Facts:
     max_compliant_occupants: int
     verdict: str
     occupancy: str
+    issued_by: str | None = None  # by name and badge; None in snapshots made before it was kept
+
+    @property
+    def recorded_by(self) -> str:
+        """Who recorded the weighing, as the document prints it: the officer, else the station."""
+        if self.inspection.officer:
+            return self.inspection.officer
+        return station_shown_as(self.inspection.station) if self.inspection.station else NOT_RECORDED
+
+    @property
+    def issuer(self) -> str:
+        """Who issued the document, as it prints it."""
+        return self.issued_by or NOT_RECORDED
+
+    @property
+    def calibration(self) -> str:
+        """The scale's calibration in force at the weighing, or 'not recorded' when there was none."""
+        return self.inspection.scale_calibration or NOT_RECORDED
 
     @property
     def failing_cases(self) -> tuple[CaseFacts, ...]:
@@ -140,6 +158,7 @@ class Facts:
             max_compliant_occupants=best,
             verdict=verdict_sentence([(c.occupants, c.compliant) for c in cases], best),
             occupancy=occupancy_sentence(data["compliant"], best),
+            issued_by=data.get("issued_by"),
         )
 
 
@@ -179,18 +198,27 @@ def _readings(inspection: Inspection) -> tuple[ReadingFacts, ...]:
     )
 
 
-def _calibration(inspection: Inspection) -> str | None:
-    certificate = inspection.calibration_certificate
-    if certificate is None:
-        return None
-    until = inspection.calibration_valid_until
-    return f"{certificate} (valid until {until.isoformat()})" if until else certificate
+def _day(value: date) -> str:
+    return f"{value.day} {value:%B %Y}"
 
 
-def facts_of(session: Session, inspection: Inspection, *, authority: str) -> Facts:
-    """The snapshot of an inspection's facts to certify."""
+def calibration_words(certificate: str | None, valid_until: date | None) -> str | None:
+    """The calibration as printed: whatever part of it is on record; None only when none of it is."""
+    if certificate and valid_until:
+        return f"{certificate}, valid until {_day(valid_until)}"
+    if certificate:
+        return f"{certificate} (validity not recorded)"
+    if valid_until:
+        return f"valid until {_day(valid_until)} (certificate number not recorded)"
+    return None
+
+
+def facts_of(
+    session: Session, inspection: Inspection, *, authority: str, issued_by: str | None = None
+) -> Facts:
+    """The snapshot of an inspection's facts to certify; `issued_by` names the issuer as printed."""
     vehicle = inspection.vehicle
-    officer = session.get(User, inspection.user_id) if inspection.user_id is not None else None
+    officer = officer_of(session, inspection)
     cases = tuple(
         CaseFacts(
             occupants=row.occupants,
@@ -217,8 +245,10 @@ def facts_of(session: Session, inspection: Inspection, *, authority: str) -> Fac
             id=inspection.id,
             weighed_at=inspection.created_at,
             station=inspection.station.name if inspection.station else None,
-            officer=officer.email if officer else None,
-            scale_calibration=_calibration(inspection),
+            officer=officer.shown_as() if officer else None,
+            scale_calibration=calibration_words(
+                inspection.calibration_certificate, inspection.calibration_valid_until
+            ),
             rules_version=inspection.rules_version,
             occupant_mass_kg=inspection.occupant_mass_kg,
         ),
@@ -230,4 +260,5 @@ def facts_of(session: Session, inspection: Inspection, *, authority: str) -> Fac
             [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
         ),
         occupancy=occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
+        issued_by=issued_by,
     )

@@ -5,11 +5,13 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Header, Path
+from sqlalchemy.orm import Session, object_session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts.sessions import set_flash
-from app.certificates.actors import Actor
+from app.certificates.actors import Actor, issued_by, recorded_by
+from app.certificates.facts import Facts
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import get_certificate
@@ -18,6 +20,7 @@ from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import InspectionId
+from app.inspections.models import Inspection
 from app.inspections.wording import document_kind, issued_message, revoked_message
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.forms import FormErrors, text
@@ -32,8 +35,33 @@ def certificate_page(
 ) -> Response:
     """The certificate as the public sees it, with the officer's download link and the admin's revoke form."""
     context = document_context(certificate)
-    context.update(officer=True, errors=errors or {}, values={"reason": reason})
+    session = object_session(certificate)
+    assert session is not None
+    context.update(
+        officer=True,
+        people=people_of(session, certificate, context["facts"]),
+        errors=errors or {},
+        values={"reason": reason},
+    )
     return render(request, "certificates/verify.html", context, status_code=422 if errors else 200)
+
+
+def people_of(session: Session, certificate: Certificate, facts: Facts) -> list[tuple[str, str]]:
+    """Who recorded the weighing and who issued the document, by name and badge as the accounts
+    have them now (older documents printed an email), and the calibration the document printed."""
+    inspection = session.get(Inspection, certificate.inspection_id)
+    assert inspection is not None
+    issuer = issued_by(
+        session,
+        user_id=certificate.issued_by_user_id,
+        station_id=certificate.issued_by_station_id,
+        label=certificate.issued_by,
+    )
+    return [
+        ("Weighing recorded by", recorded_by(session, inspection)),
+        ("Issued by", issuer),
+        ("Scale calibration", facts.calibration),
+    ]
 
 
 @router.post("/inspections/{inspection_id}/certificate")

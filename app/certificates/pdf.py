@@ -161,8 +161,7 @@ def _particulars(pdf: Page, facts: Facts) -> None:
             "Inspection",
             [
                 ("Station", inspection.station or "not recorded"),
-                ("Scale calibration", inspection.scale_calibration or "not recorded"),
-                ("Officer", inspection.officer or "none (station submission)"),
+                ("Scale calibration", facts.calibration),
                 ("Date and time", when(inspection.weighed_at)),
                 ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
             ],
@@ -177,7 +176,15 @@ def _particulars(pdf: Page, facts: Facts) -> None:
             below_value = pdf.box(x + LABEL_W, y, width - LABEL_W, value, 9, bold=True)
             y = max(below_label, below_value)
         bottoms.append(y)
-    pdf.set_xy(MARGIN, max(bottoms) + 3)
+    # Who stands behind it: one full-width line (in a column each name and badge would wrap).
+    y = pdf.box(
+        MARGIN,
+        max(bottoms) + 1.5,
+        CONTENT_W,
+        f"Recorded by {facts.recorded_by}. Issued by {facts.issuer}.",
+        9,
+    )
+    pdf.set_xy(MARGIN, y + 3)
 
 
 def _readings(pdf: Page, facts: Facts) -> None:

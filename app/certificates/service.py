@@ -32,6 +32,7 @@ from app.errors import Conflict, InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
 from app.inspections.wording import document_kind
+from app.stations.scale import CalibrationRefused
 from app.text import checked
 
 REASON_LENGTH = 1000
@@ -219,7 +220,10 @@ def _create(
     reason: str | None,
 ) -> Certificate:
     """Sign, render and store a certificate with its audit entries, and commit."""
-    facts = facts_of(session, inspection, authority=settings.issuing_authority)
+    if settings.require_calibration and inspection.calibration_valid_until is None:
+        session.rollback()  # the number allocated is not used
+        raise calibration_required(inspection)
+    facts = facts_of(session, inspection, authority=settings.issuing_authority, issued_by=actor.shown_as)
     kind = "compliant" if facts.compliant else "refusal"
     signer = current_signer(session, settings)
     claims = Claims(
@@ -285,6 +289,22 @@ def _create(
         )
     session.commit()
     return certificate
+
+
+def calibration_required(inspection: Inspection) -> CalibrationRefused:
+    """The refusal to issue for a weighing with no scale calibration on record, when one is required."""
+    where = (
+        f"the scale of {inspection.station.name} had no calibration on record when it was weighed"
+        if inspection.station is not None
+        else "it was recorded without a station, so no scale calibration is on record"
+    )
+    return CalibrationRefused(
+        f"inspection_id: no certificate or refusal can be issued for inspection {inspection.id}: {where}, "
+        "and this service requires one (TRIKECERT_REQUIRE_CALIBRATION). Weigh the vehicle again on a "
+        "station scale whose calibration is recorded.",
+        field="inspection_id",
+        rule="calibration_missing",
+    )
 
 
 def _sha256(data: bytes) -> str:

@@ -11,8 +11,9 @@ from sqlalchemy.orm import Session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
-from app.accounts.models import User
 from app.accounts.sessions import set_flash
+from app.certificates.actors import issued_by, recorded_by
+from app.certificates.facts import calibration_words
 from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
@@ -170,12 +171,22 @@ def inspection_page(
 ) -> Response:
     """Table 4, the verdict in words, the certified occupancy and the chart."""
     inspection = get_inspection(session, inspection_id)
-    officer = session.get(User, inspection.user_id) if inspection.user_id else None
     context = result_context(session, inspection)
+    certificates = certificates_of_inspection(session, inspection.id)
     context.update(
-        officer=officer,
+        recorded_by=recorded_by(session, inspection),
+        calibration=calibration_words(inspection.calibration_certificate, inspection.calibration_valid_until),
         raw=raw_readings(inspection),
-        certificates=certificates_of_inspection(session, inspection.id),
+        certificates=certificates,
+        issuers={
+            certificate.id: issued_by(
+                session,
+                user_id=certificate.issued_by_user_id,
+                station_id=certificate.issued_by_station_id,
+                label=certificate.issued_by,
+            )
+            for certificate, _status in certificates
+        },
     )
     return render(request, "inspections/show.html", context)
 

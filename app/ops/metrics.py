@@ -1,20 +1,29 @@
-"""/metrics in Prometheus text format: request metrics plus inspections and certificates by verdict."""
+"""/metrics in Prometheus text format: request metrics plus inspections and certificates by verdict.
+
+With TRIKECERT_METRICS_TOKEN set, a scrape must send `Authorization: Bearer <token>` (401 otherwise).
+Without it the endpoint is off (404) in production, and open in development and tests, where there
+is nothing to protect and a local Prometheus need not be configured.
+"""
 
 from __future__ import annotations
 
+import hmac
 import os
 from collections.abc import Iterable
 from typing import Any
 
-from fastapi import APIRouter, Response
+from fastapi import APIRouter, Request, Response
 from prometheus_client import CONTENT_TYPE_LATEST, CollectorRegistry, generate_latest, multiprocess
 from prometheus_client.core import GaugeMetricFamily, Metric
 from prometheus_client.registry import REGISTRY, Collector
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
+from starlette.exceptions import HTTPException
 
 from app.certificates.models import Certificate
+from app.config import get_settings
 from app.db import get_sessionmaker
+from app.errors import ServiceError
 from app.inspections.models import Inspection
 
 router = APIRouter(tags=["operations"])
@@ -62,7 +71,33 @@ def registry() -> CollectorRegistry:
     return scrape
 
 
+class MetricsRefused(ServiceError):
+    """A scrape without the metrics token (401)."""
+
+    status = 401
+    headers = {"WWW-Authenticate": 'Bearer realm="metrics"'}  # noqa: RUF012
+
+
+def check_scraper(request: Request) -> None:
+    """Let the scrape through, or refuse it as the settings say (404 off, 401 no or wrong token)."""
+    settings = get_settings()
+    token = settings.metrics_token
+    if token is None:
+        if settings.environment == "production":
+            raise HTTPException(404)  # off: answered as any unknown path is
+        return
+    given = request.headers.get("authorization", "")
+    expected = f"Bearer {token.get_secret_value()}"
+    if not hmac.compare_digest(given.encode("utf-8", "replace"), expected.encode()):
+        raise MetricsRefused(
+            "Authorization: /metrics needs `Authorization: Bearer <TRIKECERT_METRICS_TOKEN>`",
+            field="Authorization",
+            rule="metrics_token",
+        )
+
+
 @router.get("/metrics", include_in_schema=False)
-def metrics() -> Response:
+def metrics(request: Request) -> Response:
     """Request counts and latencies, and the stored inspections by verdict."""
+    check_scraper(request)
     return Response(generate_latest(registry()), media_type=CONTENT_TYPE_LATEST)

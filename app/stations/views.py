@@ -364,7 +364,8 @@ SHOWN_SETTINGS: tuple[tuple[str, str, str, str], ...] = (
         "require_calibration",
         "Calibration required",
         "bool",
-        "Whether a station with no calibration on record is refused.",
+        "Whether a station with no calibration on record is refused, and no certificate or refusal "
+        "is issued for a weighing without one.",
     ),
     (
         "certificate_validity_months",

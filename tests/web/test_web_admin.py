@@ -23,7 +23,12 @@ def test_an_admin_adds_a_user_who_can_then_sign_in(admin_web: TestClient, sessio
         admin_web,
         "/admin/users/new",
         "/admin/users/new",
-        {"email": "New.Officer@example.org", "role": "officer", "password": "a long enough secret"},
+        {
+            "email": "New.Officer@example.org",
+            "name": "Amina Bello",
+            "role": "officer",
+            "password": "a long enough secret",
+        },
     )
     assert response.status_code == 303
     page = admin_web.get("/admin/users")
@@ -34,7 +39,10 @@ def test_an_admin_adds_a_user_who_can_then_sign_in(admin_web: TestClient, sessio
 
 def test_adding_a_user_with_a_short_password_shows_the_rule(admin_web: TestClient, session: Session) -> None:
     response = post_form(
-        admin_web, "/admin/users/new", "/admin/users/new", {"email": "x@example.org", "password": "short"}
+        admin_web,
+        "/admin/users/new",
+        "/admin/users/new",
+        {"email": "x@example.org", "name": "Amina Bello", "password": "short"},
     )
     assert response.status_code == 422
     assert '<a href="#password">Use at least 10 characters</a>' in response.text
