@@ -281,7 +281,7 @@ def _chart_and_qr(pdf: FPDF, document: CertificateDocument) -> None:
     chart_h = max(min(VALIDITY_Y - 12 - chart_top, 62), 24)
     draw_chart(pdf, Box(MARGIN + 12, chart_top, 100, chart_h), document.facts.cases)
 
-    qr_size = 42.0
+    qr_size = 52.0  # modules of 0.85 mm (QR version 10) or more: see tests/certificates/test_qr_scan.py
     qr_x, qr_y = PAGE_W - MARGIN - qr_size, PAGE_H - MARGIN - qr_size - 16
     _draw_qr(pdf, document.qr_url, qr_x, qr_y, qr_size)
     pdf.set_xy(qr_x - 8, qr_y + qr_size + 1)

@@ -12,6 +12,7 @@ from app.certificates.keys import published_keys
 from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.records import certificate_facts, certificate_status, find_certificate, verify_base
 from app.certificates.verification import check_payload
+from app.certificates.verify_json import payload_param, verification_json, wants_json
 from app.config import get_settings
 from app.web.deps import SessionDep
 from app.web.templating import render
@@ -52,7 +53,13 @@ def verify_page(
         str | None, Query(max_length=2000, description="The signed payload from the QR code.")
     ] = None,
 ) -> Response:
-    """The certificate's status in large letters, the vehicle and the verdict; 404 for an unknown number."""
+    """The certificate's status in large letters, the vehicle and the verdict; 404 for an unknown number.
+
+    With `Accept: application/json`, the public JSON verification instead (as /api/v1/verify/{number}).
+    """
+    p = payload_param(request) if p is not None else None
+    if wants_json(request):
+        return verification_json(session, number, p)
     certificate = find_certificate(session, number)
     if certificate is None:
         return render(request, "certificates/not_found.html", {"number": number}, status_code=404)
