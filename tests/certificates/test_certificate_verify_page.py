@@ -45,7 +45,9 @@ def test_a_current_certificate_shows_valid_the_vehicle_and_table_4(
 def test_the_qr_url_shows_whether_its_signature_checks_out(
     issued: dict[str, Any], client: TestClient
 ) -> None:
-    genuine = client.get(issued["qr_url"].removeprefix("http://127.0.0.1:8000"))
+    assert issued["qr_url"].startswith("HTTP://127.0.0.1:8000/V/")
+    genuine = client.get(issued["qr_url"].removeprefix("HTTP://127.0.0.1:8000"))
+    assert genuine.url.path == f"/verify/{issued['number']}"
     assert "QR code genuine" in genuine.text
     token = issued["qr_payload"]
     forged = token[:40] + ("A" if token[40] != "A" else "B") + token[41:]
