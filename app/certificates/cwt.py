@@ -103,7 +103,7 @@ def _strict_cbor(raw: bytes, part: str) -> Any:
 
 def _unpack(text: str) -> tuple[bytes, bytes, bytes]:
     """The protected header, payload and signature bytes of a base45 COSE_Sign1."""
-    text = text.strip().upper()  # a camera app may lower-case the URL; base45 has capitals only
+    text = text.strip("\r\n\t").upper()  # not spaces (base45 has them); a camera may lower-case
     if not text or not set(text) <= BASE45_ALPHABET:
         raise PayloadRefused("malformed", "malformed payload: expected base45 text (RFC 9285)")
     try:

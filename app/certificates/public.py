@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from typing import Annotated, Any
-from urllib.parse import quote
+from urllib.parse import quote, unquote
 
 from fastapi import APIRouter, Path, Response
 from starlette.requests import Request
@@ -35,6 +35,16 @@ def signing_keys(session: SessionDep, response: Response) -> dict[str, Any]:
     return published_keys(session, get_settings())
 
 
+def _raw_payload(request: Request) -> str | None:
+    """The payload from the path as sent, percent-decoded exactly once (a '%25' in it stays '%')."""
+    raw = request.scope.get("raw_path")
+    if not isinstance(raw, bytes):
+        return None
+    path = raw.decode("latin-1").split("?", 1)[0]
+    marker = max(path.find("/V/"), path.find("/v/"))
+    return unquote(path[marker + 3 :]) if marker >= 0 else None
+
+
 @public_router.get("/V/{payload:path}", include_in_schema=False)
 @public_router.get("/v/{payload:path}", include_in_schema=False)
 def short_verify(
@@ -45,6 +55,7 @@ def short_verify(
     303 to /verify/{number}?p=<payload> (JSON clients follow it to the JSON verification). A payload
     no number can be read from is 422: the form to type the number, or the API's error body.
     """
+    payload = _raw_payload(request) or payload
     try:
         number = number_of_payload(session, payload)
     except InvalidInput as refused:  # nothing to show but the form

@@ -82,7 +82,7 @@ def query_values(query: str, name: str) -> list[str]:
 
 def verify_payload(payload: str, jwks: dict[str, Any]) -> Verified:
     """Check a bare payload of either format against the published keys."""
-    payload = payload.strip()
+    payload = payload.strip("\r\n\t")  # not spaces: base45 has them
     if looks_like_jws(payload):
         return verify_jws(payload, jwks)
     return verify_cwt(payload, jwks)
