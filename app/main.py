@@ -31,7 +31,8 @@ passengers) the total weight, the weight on the rear wheels, the Lateral Stabili
 (LSF = rear / total), the variance 2/3 - LSF and the verdict. A case complies only if
 LSF < 2/3, decided in exact arithmetic.
 
-Every call needs `Authorization: Bearer <station key>`. Errors are JSON
+Every call needs `Authorization: Bearer <station key>`, except the public
+`GET /api/v1/verify/{number}`. Errors are JSON
 `{"detail": ..., "errors": [{"field", "rule", "message"}]}`.
 """
 

@@ -1,21 +1,34 @@
-"""Station API for certificates: issue one for an inspection, read it, download its PDF."""
+"""Station API for certificates: issue one for an inspection, read it, download its PDF; and the
+public JSON verification, which needs no key.
+
+A station reads only the certificates of inspections it submitted: another station's is answered
+exactly as one that does not exist, as inspections are.
+"""
 
 from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Header, Path, Response, status
+from fastapi import APIRouter, Header, Path, Query, Request, Response, status
+from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
 from app.certificates.actors import Actor
+from app.certificates.issuer import issuer_of
 from app.certificates.models import Certificate
+from app.certificates.numbers import parse_number
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
-from app.certificates.schemas import CertificateOut, RevocationOut
+from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
+from app.certificates.signing import qr_url_of
+from app.certificates.verify_json import payload_param, verification
 from app.config import get_settings
+from app.errors import NotFound
 from app.ids import InspectionId
+from app.inspections.models import Inspection
 from app.stations.deps import SessionDep, StationDep
+from app.stations.models import Station
 
 router = APIRouter(tags=["certificates"])
 NumberPath = Annotated[
@@ -27,10 +40,21 @@ NumberPath = Annotated[
 ]
 
 
-def certificate_out(certificate: Certificate) -> CertificateOut:
+def station_certificate(session: Session, number: str, station: Station) -> Certificate:
+    """The certificate with this number if the station submitted its inspection; else NotFound, as unknown."""
+    certificate = get_certificate(session, number)
+    inspection = session.get(Inspection, certificate.inspection_id)
+    if inspection is None or inspection.station_id != station.id:
+        raise NotFound(f"number: no certificate {parse_number(number)} exists", field="number", rule="exists")
+    return certificate
+
+
+def certificate_out(session: Session, certificate: Certificate) -> CertificateOut:
     """The API view of a certificate, with its status as of now."""
     facts = certificate_facts(certificate)
-    verify = f"{verify_base(get_settings())}/{certificate.number}"
+    settings = get_settings()
+    verify = f"{verify_base(settings)}/{certificate.number}"
+    issuer = issuer_of(session, certificate)
     revocation = certificate.revocation
     return CertificateOut(
         number=certificate.number,
@@ -44,7 +68,7 @@ def certificate_out(certificate: Certificate) -> CertificateOut:
         verdict=facts.verdict,
         issued_at=certificate.issued_at,
         expires_at=certificate.expires_at,
-        issued_by=certificate.issued_by,
+        issued_by=IssuerOut(role=issuer.role, name=issuer.name),
         supersedes=certificate.supersedes.number if certificate.supersedes else None,
         superseded_by=certificate.superseded_by.number if certificate.superseded_by else None,
         revocation=RevocationOut(revoked_at=revocation.revoked_at, reason=revocation.reason)
@@ -53,7 +77,7 @@ def certificate_out(certificate: Certificate) -> CertificateOut:
         key_id=certificate.key_id,
         qr_payload=certificate.qr_payload,
         verify_url=verify,
-        qr_url=f"{verify}?p={certificate.qr_payload}",
+        qr_url=qr_url_of(settings.base_url, certificate.number, certificate.qr_payload),
         pdf_url=f"/api/v1/certificates/{certificate.number}/pdf",
         pdf_sha256=certificate.pdf_sha256,
     )
@@ -84,18 +108,21 @@ def create_certificate(
     number = issued.certificate.number
     response.status_code = status.HTTP_201_CREATED if issued.created else status.HTTP_200_OK
     response.headers["Location"] = f"/api/v1/certificates/{number}"
-    return certificate_out(issued.certificate)
+    return certificate_out(session, issued.certificate)
 
 
 @router.get(
     "/certificates/{number}",
     response_model=CertificateOut,
     responses=error_responses(401, 404, 422),
-    summary="Read a certificate with its current status",
+    summary="Read one of this station's certificates with its current status",
 )
-def read_certificate(number: NumberPath, session: SessionDep, _station: StationDep) -> CertificateOut:
-    """The certificate; `status` is computed now (issued, revoked, superseded or expired)."""
-    return certificate_out(get_certificate(session, number))
+def read_certificate(number: NumberPath, session: SessionDep, station: StationDep) -> CertificateOut:
+    """The certificate; `status` is computed now (issued, revoked, superseded or expired).
+
+    404 for a certificate of another station's inspection, as for one that does not exist.
+    """
+    return certificate_out(session, station_certificate(session, number, station))
 
 
 @router.get(
@@ -106,13 +133,42 @@ def read_certificate(number: NumberPath, session: SessionDep, _station: StationD
         304: {"description": "Not modified: the ETag given in If-None-Match still matches."},
         **error_responses(401, 404, 422),
     },
-    summary="Download the certificate's PDF (the same bytes every time; ETag and If-None-Match)",
+    summary="Download one of this station's certificate PDFs (the same bytes every time; ETag)",
 )
 def read_certificate_pdf(
     number: NumberPath,
     session: SessionDep,
-    _station: StationDep,
+    station: StationDep,
     if_none_match: Annotated[str | None, Header(max_length=1000)] = None,
 ) -> Response:
-    """The PDF rendered at issue; its ETag is the SHA-256 of the bytes."""
-    return pdf_response(session, get_certificate(session, number), if_none_match)
+    """The PDF rendered at issue; its ETag is the SHA-256 of the bytes. 404 for another station's."""
+    return pdf_response(session, station_certificate(session, number, station), if_none_match)
+
+
+@router.get(
+    "/verify/{number}",
+    response_model=VerificationOut,
+    response_model_exclude_none=True,
+    responses=error_responses(404, 422),
+    tags=["verification"],
+    summary="Verify a certificate or refusal: public, no key needed",
+)
+def verify_certificate(
+    number: NumberPath,
+    request: Request,
+    session: SessionDep,
+    p: Annotated[
+        str | None,
+        Query(
+            max_length=2000,
+            description="The payload of a scanned QR code (the part after /V/, or the old ?p=), "
+            "percent-encoded; with it the answer says whether it is genuine for this record.",
+        ),
+    ] = None,
+) -> VerificationOut:
+    """Only what the paper prints, and the status now: valid, revoked, expired or superseded.
+
+    The same answer comes from `GET /verify/{number}` with `Accept: application/json`.
+    `superseded_by` is there only when superseded; `qr`, `reason` and `reason_text` only with `p`.
+    """
+    return verification(session, get_certificate(session, number), payload_param(request) if p else None)

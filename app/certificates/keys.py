@@ -1,7 +1,8 @@
 """Signing keys: created on first use (or given by TRIKECERT_SIGNING_KEY), rotated, published as a JWKS.
 
 Every key ever used stays in the `signing_key` table (the private half only when the database
-made it), so the published key set verifies every certificate ever issued.
+made it), so the published key set verifies every certificate ever issued. Each published key
+also carries its COSE_Key form (`cose_key`), for the CWT payloads of the QR codes.
 """
 
 from __future__ import annotations
@@ -11,14 +12,16 @@ import binascii
 from dataclasses import dataclass
 from typing import Any
 
+import cbor2
 from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 
+from app.certificates.cwt import EDDSA, kid_bytes
+from app.certificates.jws import ALGORITHM
 from app.certificates.models import SigningKey
-from app.certificates.signing import ALGORITHM
 from app.config import Settings
 from app.db import utcnow
 from app.errors import Conflict, InvalidInput
@@ -32,6 +35,13 @@ class Signer:
 
     kid: str
     key: OKPKey
+
+    @property
+    def ed25519(self) -> Ed25519PrivateKey:
+        """The private key as `cryptography` holds it (the CWT signer takes it)."""
+        private = self.key.private_key
+        assert isinstance(private, Ed25519PrivateKey)
+        return private
 
 
 def parse_private_key(value: str) -> Ed25519PrivateKey:
@@ -79,6 +89,16 @@ def public_jwk(key: OKPKey) -> dict[str, Any]:
     """The public half as a JWK."""
     public = key.as_dict(private=False)
     return {"kty": public["kty"], "crv": public["crv"], "x": public["x"]}
+
+
+COSE_OKP, COSE_ED25519 = 1, 6  # COSE key type OKP and curve Ed25519 (RFC 9053)
+
+
+def cose_key(jwk: dict[str, Any], kid: str) -> str:
+    """A public key as a COSE_Key {kty: OKP, kid, alg: EdDSA, crv: Ed25519, x}: CBOR in base64url."""
+    x = base64.urlsafe_b64decode(jwk["x"] + "=" * (-len(jwk["x"]) % 4))
+    key = {1: COSE_OKP, 2: kid_bytes(kid), 3: EDDSA, -1: COSE_ED25519, -2: x}
+    return base64.urlsafe_b64encode(cbor2.dumps(key)).rstrip(b"=").decode()
 
 
 def _record(session: Session, key: OKPKey, *, pem: str | None, source: str) -> SigningKey:
@@ -132,7 +152,7 @@ def rotate_signing_key(session: Session, settings: Settings) -> SigningKey:
 
 
 def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
-    """Every public key ever used, newest first, as a JWKS with the issuer's name."""
+    """Every public key ever used, newest first, as a JWKS with the issuer's name and each COSE_Key."""
     rows = session.scalars(select(SigningKey).order_by(SigningKey.id.desc())).all()
     return {
         "issuer": settings.issuing_authority,
@@ -144,6 +164,7 @@ def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
                 "use": "sig",
                 "active": row.active,
                 "created_at": row.created_at.isoformat(),
+                "cose_key": cose_key(row.public_jwk, row.kid),
             }
             for row in rows
         ],

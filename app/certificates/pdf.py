@@ -19,7 +19,7 @@ from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layou
 from app.inspections.wording import document_kind, document_title
 from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
 
-QR_BOX = 52.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.8 mm modules
+QR_BOX = 56.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.86 mm modules
 QR_QUIET = 4  # modules of quiet zone on each side, as the QR standard asks
 QR_MASK = 1
 COMPACT_AFTER = 6  # more failing cases than this: the reasons in one paragraph

@@ -24,7 +24,7 @@ from app.certificates.numbers import parse_number
 from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
-from app.certificates.signing import Claims, sign_claims
+from app.certificates.signing import Claims, qr_url_of, sign_payload
 from app.certificates.validity import add_months, local_date
 from app.config import Settings
 from app.db import utcnow
@@ -233,8 +233,10 @@ def _create(
         expires=local_date(expires_at),
         verdict="C" if facts.compliant else "NC",
         max_occupants=facts.max_compliant_occupants,
+        issued_at=issued_at,
+        expires_at=expires_at,
     )
-    token = sign_claims(claims, kid=signer.kid, key=signer.key)
+    token = sign_payload(claims, kid=signer.kid, key=signer.ed25519)
     base = verify_base(settings)
     pdf = render_pdf(
         CertificateDocument(
@@ -244,7 +246,7 @@ def _create(
             expires_at=expires_at,
             facts=facts,
             verify_url=base,
-            qr_url=f"{base}/{number}?p={token}",
+            qr_url=qr_url_of(settings.base_url, number, token),
         )
     )
     number_parts = parse_number(number)

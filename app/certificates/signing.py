@@ -1,191 +1,114 @@
-"""The signed QR payload: a JWS compact token (RFC 7515) signed with Ed25519 (alg "Ed25519", RFC 9864).
+"""Sign a certificate's QR payload, build the URL the QR code holds, and check what a scan gives back.
 
-Header `{"alg": "Ed25519", "kid": ...}`; payload the JSON claims below. Verification needs only the
-published public keys (a JWKS), so anyone can check a certificate offline. Pure: no database.
+New certificates carry a base45 COSE_Sign1 CWT (cwt.py) in a short upper-case URL,
+`HTTPS://HOST/V/<payload>`, so the whole QR code is in alphanumeric mode. Certificates issued
+before carry a JWS (jws.py) in `<base>/verify/<number>?p=<token>`; both keep verifying, with the
+same published keys. Pure: no database.
 """
 
 from __future__ import annotations
 
-import base64
-import binascii
-import json
+import re
 from dataclasses import dataclass
-from datetime import date
-from typing import Any, Literal
-from urllib.parse import parse_qs, unquote, urlsplit
+from typing import Any
+from urllib.parse import quote, unquote, urlsplit
 
-from joserfc import jws
-from joserfc.errors import JoseError
-from joserfc.jwk import OKPKey
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 
-from app.certificates.numbers import InvalidNumber, normalise, parse_number
+from app.certificates.claims import Claims, PayloadRefused, Verified
+from app.certificates.cwt import sign_cwt, verify_cwt
+from app.certificates.jws import looks_like_jws, verify_jws
+from app.certificates.numbers import normalise
 
-ALGORITHM = "Ed25519"
-Verdict = Literal["C", "NC"]
-Reason = Literal["malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"]
+__all__ = [
+    "Claims",
+    "PayloadRefused",
+    "Verified",
+    "legacy_qr_url",
+    "qr_url",
+    "qr_url_of",
+    "sign_payload",
+    "split_verify_input",
+    "verify_input",
+    "verify_payload",
+]
 
-
-class PayloadRefused(Exception):
-    """The payload is not a genuine certificate payload; `reason` is a short code, the message says why."""
-
-    def __init__(self, reason: Reason, message: str) -> None:
-        super().__init__(message)
-        self.reason = reason
-        self.message = message
-
-
-@dataclass(frozen=True)
-class Claims:
-    """What the QR code vouches for: number, registration, dates, verdict and maximum occupancy."""
-
-    number: str
-    registration: str
-    issued: date
-    expires: date
-    verdict: Verdict
-    max_occupants: int
-
-    def to_json(self) -> bytes:
-        """Compact JSON with short, fixed keys (the QR code stays small)."""
-        body = {
-            "num": self.number,
-            "reg": self.registration,
-            "issued": self.issued.isoformat(),
-            "expires": self.expires.isoformat(),
-            "verdict": self.verdict,
-            "max_occ": self.max_occupants,
-        }
-        return json.dumps(body, separators=(",", ":"), ensure_ascii=False).encode()
-
-    @classmethod
-    def from_json(cls, data: bytes) -> Claims:
-        """Parse signed claims, refusing any that do not have the expected shape."""
-        try:
-            body = json.loads(data)
-            claims = cls(
-                number=_text(body["num"]),
-                registration=_text(body["reg"]),
-                issued=date.fromisoformat(_text(body["issued"])),
-                expires=date.fromisoformat(_text(body["expires"])),
-                verdict=_verdict(body["verdict"]),
-                max_occupants=_count(body["max_occ"]),
-            )
-            parse_number(claims.number)
-        except (ValueError, KeyError, TypeError, InvalidNumber) as error:
-            raise PayloadRefused(
-                "tampered", f"tampered content: the signed claims are not valid ({error})"
-            ) from error
-        return claims
+SHORT_PATH = "/V/"
+# In a URL path these base45 characters must be percent-escaped: space, '%' and '/' (a segment
+# separator). '%', '2', '0', '5' and 'F' are in the QR alphanumeric set, so the URL stays in it.
+_PATH_SAFE = "$*+-.:"
+_SHORT = re.compile(r"/[Vv]/(?P<payload>.+)$")
 
 
-def _text(value: Any) -> str:
-    if not isinstance(value, str):
-        raise TypeError("expected text")
-    return value
+def sign_payload(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
+    """The QR payload of new certificates: the base45 COSE_Sign1 CWT of the claims."""
+    return sign_cwt(claims, kid=kid, key=key)
 
 
-def _verdict(value: Any) -> Verdict:
-    if value == "C":
-        return "C"
-    if value == "NC":
-        return "NC"
-    raise ValueError(f"unknown verdict {value!r}")
+def short_base(base_url: str) -> str:
+    """The base URL with its scheme and host in capitals (case-insensitive there, alphanumeric in a QR)."""
+    url = urlsplit(base_url.rstrip("/"))
+    return f"{url.scheme.upper()}://{url.netloc.upper()}{url.path}"
 
 
-def _count(value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise ValueError("max occupancy must be a whole number")
-    return value
+def qr_url(base_url: str, payload: str) -> str:
+    """What the QR code encodes: `<BASE>/V/<payload>` for a CWT, `<base>/verify/<number>?p=` for a JWS."""
+    if looks_like_jws(payload):
+        raise ValueError("a JWS payload has its verify URL with the number; see legacy_qr_url")
+    return f"{short_base(base_url)}{SHORT_PATH}{quote(payload, safe=_PATH_SAFE)}"
 
 
-def sign_claims(claims: Claims, *, kid: str, key: OKPKey) -> str:
-    """The JWS compact token of the claims, signed with the private key `key` known as `kid`."""
-    return jws.serialize_compact(
-        {"alg": ALGORITHM, "kid": kid}, claims.to_json(), key, algorithms=[ALGORITHM]
-    )
+def legacy_qr_url(base_url: str, number: str, payload: str) -> str:
+    """The URL the QR codes of certificates signed with a JWS hold."""
+    return f"{base_url.rstrip('/')}/verify/{number}?p={payload}"
 
 
-def _b64decode(segment: str, part: str) -> bytes:
-    """Strict base64url: refuse padding, stray characters and non-canonical trailing bits."""
-    try:
-        raw = base64.urlsafe_b64decode(segment + "=" * (-len(segment) % 4))
-    except (binascii.Error, ValueError) as error:
-        raise PayloadRefused("malformed", f"malformed payload: the {part} is not base64url") from error
-    if base64.urlsafe_b64encode(raw).rstrip(b"=").decode() != segment:
-        raise PayloadRefused("malformed", f"malformed payload: the {part} is not canonical base64url")
-    return raw
+def qr_url_of(base_url: str, number: str, payload: str) -> str:
+    """The URL a certificate's QR code holds, for either payload format."""
+    if looks_like_jws(payload):
+        return legacy_qr_url(base_url, number, payload)
+    return qr_url(base_url, payload)
 
 
-@dataclass(frozen=True)
-class Verified:
-    """A payload whose signature checks out, with the key that signed it."""
-
-    claims: Claims
-    kid: str
-
-
-def find_key(jwks: dict[str, Any], kid: str) -> dict[str, Any] | None:
-    """The public key with this id in a published key set, or None."""
-    for key in jwks.get("keys", []):
-        if isinstance(key, dict) and key.get("kid") == kid:
-            return key
-    return None
+def query_values(query: str, name: str) -> list[str]:
+    """The values of one query parameter, percent-decoded but with '+' kept: base45 uses it as itself."""
+    values = []
+    for pair in query.split("&"):
+        key, equals, value = pair.partition("=")
+        if equals and unquote(key) == name:
+            values.append(unquote(value))
+    return values
 
 
-def verify_token(token: str, jwks: dict[str, Any]) -> Verified:
-    """Check a JWS compact token against the published keys; PayloadRefused says why it is not genuine."""
-    token = token.strip()
-    parts = token.split(".")
-    if len(parts) != 3 or not all(parts):
-        raise PayloadRefused(
-            "malformed", "malformed payload: expected three dot-separated parts (JWS compact)"
-        )
-    header_raw = _b64decode(parts[0], "header")
-    _b64decode(parts[1], "content")
-    _b64decode(parts[2], "signature")
-    try:
-        header = json.loads(header_raw)
-    except ValueError as error:
-        raise PayloadRefused("malformed", "malformed payload: the header is not JSON") from error
-    if not isinstance(header, dict) or set(header) != {"alg", "kid"}:
-        raise PayloadRefused("malformed", "malformed payload: the header must hold exactly alg and kid")
-    if header["alg"] != ALGORITHM:
-        raise PayloadRefused(
-            "unsupported_algorithm", f"unsupported algorithm {header['alg']!r}; expected Ed25519"
-        )
-    kid = header["kid"]
-    public = find_key(jwks, kid) if isinstance(kid, str) else None
-    if public is None:
-        raise PayloadRefused("unknown_key", f"unknown key: no published key has the id {kid!r}")
-    try:
-        key = OKPKey.import_key({k: public[k] for k in ("kty", "crv", "x")})
-        verified = jws.deserialize_compact(token, key, algorithms=[ALGORITHM])
-    except JoseError as error:
-        raise PayloadRefused(
-            "bad_signature",
-            "bad signature: the content or the signature was altered, or it was not signed by us",
-        ) from error
-    return Verified(claims=Claims.from_json(verified.payload), kid=kid)
+def verify_payload(payload: str, jwks: dict[str, Any]) -> Verified:
+    """Check a bare payload of either format against the published keys."""
+    payload = payload.strip("\r\n\t")  # not spaces: base45 has them
+    if looks_like_jws(payload):
+        return verify_jws(payload, jwks)
+    return verify_cwt(payload, jwks)
 
 
 @dataclass(frozen=True)
 class VerifyInput:
-    """A token, and the certificate number when it came as a verify URL."""
+    """A payload, and the certificate number when it came in a verify URL that names one."""
 
     token: str
     number: str | None
 
 
 def split_verify_input(text: str) -> VerifyInput:
-    """Accept a bare token or a verify URL `<base>/verify/<number>?p=<token>`."""
+    """Accept a bare payload, a QR URL `<BASE>/V/<payload>` or a verify URL `<base>/verify/<number>?p=`."""
     text = text.strip()
-    if "/verify/" not in text and "?p=" not in text:
+    if not text.lower().startswith(("http://", "https://")) and "?p=" not in text:
         return VerifyInput(token=text, number=None)
     url = urlsplit(text)
-    tokens = parse_qs(url.query).get("p", [])
+    short = _SHORT.search(url.path)
+    if short is not None and "/verify/" not in url.path:
+        return VerifyInput(token=unquote(short.group("payload")), number=None)
+    tokens = query_values(url.query, "p")
     if len(tokens) != 1:
         raise PayloadRefused(
-            "malformed", "malformed URL: expected exactly one p= parameter holding the payload"
+            "malformed", "malformed URL: expected /V/<payload> or exactly one p= parameter holding it"
         )
     path = unquote(url.path)
     number = path.rsplit("/verify/", 1)[1] if "/verify/" in path else None
@@ -193,9 +116,9 @@ def split_verify_input(text: str) -> VerifyInput:
 
 
 def verify_input(text: str, jwks: dict[str, Any]) -> Verified:
-    """Verify a token or a verify URL; a URL whose number differs from the signed number is tampered."""
+    """Verify a payload or a URL; a URL whose number differs from the signed number is tampered."""
     given = split_verify_input(text)
-    verified = verify_token(given.token, jwks)
+    verified = verify_payload(given.token, jwks)
     if given.number is not None and normalise(given.number) != normalise(verified.claims.number):
         raise PayloadRefused(
             "tampered",

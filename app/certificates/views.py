@@ -13,6 +13,7 @@ from app.certificates.models import Certificate
 from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.records import certificate_facts, certificate_status, find_certificate, verify_base
 from app.certificates.verification import PayloadCheck, check_payload
+from app.certificates.verify_json import payload_param, verification_json, wants_json
 from app.config import get_settings
 from app.inspections import wording
 from app.text import without_refused
@@ -96,7 +97,13 @@ def verify_page(
         str | None, Query(max_length=2000, description="The signed payload from the QR code.")
     ] = None,
 ) -> Response:
-    """One banner with the status, the registration and the occupancy; the QR check; then the details."""
+    """One banner with the status, the registration and the occupancy; the QR check; then the details.
+
+    With `Accept: application/json`, the public JSON verification instead (as /api/v1/verify/{number}).
+    """
+    p = payload_param(request) if p is not None else None
+    if wants_json(request):
+        return verification_json(session, number, p)
     certificate = find_certificate(session, number)
     if certificate is None:
         return render(request, "certificates/not_found.html", {"number": number}, status_code=404)

@@ -4,8 +4,15 @@ from __future__ import annotations
 
 from typing import Any
 
+import pytest
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
+
+from app.certificates import service
+from app.certificates.jws import sign_jws
+from app.certificates.keys import okp_key
+from app.certificates.signing import Claims
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"
@@ -50,3 +57,13 @@ def study_certificate(api: TestClient) -> dict[str, Any]:
     """The study's vehicle registered, weighed and certified (a refusal)."""
     register(api)
     return certify(api, weigh(api))
+
+
+def sign_as_before(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
+    """The payload as certificates were signed before the CWT: a JWS compact token."""
+    return sign_jws(claims, kid=kid, key=okp_key(key))
+
+
+def issue_as_before(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make the service issue certificates exactly as it did before the CWT (JWS in a /verify?p= URL)."""
+    monkeypatch.setattr(service, "sign_payload", sign_as_before)

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import re
 from datetime import UTC, datetime
+from urllib.parse import quote
 
+import base45  # type: ignore[import-untyped]
+import cbor2
 from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, study_certificate, weigh
 from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
@@ -28,8 +31,11 @@ def test_the_study_vehicle_gets_a_refusal_that_must_not_carry_passengers(api: Te
     )
     assert body["registration_number"] == "BDG 252 QH"
     assert body["verify_url"] == f"http://127.0.0.1:8000/verify/{body['number']}"
-    assert body["qr_url"] == f"{body['verify_url']}?p={body['qr_payload']}"
-    assert body["qr_payload"].count(".") == 2
+    payload = body["qr_payload"]
+    assert set(payload) <= set("0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ $%*+-./:")  # base45
+    assert cbor2.loads(base45.b45decode(payload)).tag == 18  # COSE_Sign1
+    assert body["qr_url"] == "HTTP://127.0.0.1:8000/V/" + quote(payload, safe="$*+-.:")
+    assert body["issued_by"] == {"role": "station", "name": "Test weighbridge"}
     assert body["supersedes"] is None
     assert body["revocation"] is None
     assert api.get(f"/api/v1/certificates/{body['number']}").json() == body

@@ -8,6 +8,7 @@ from collections.abc import Iterator
 from datetime import datetime
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import pytest
 from certificate_helpers import study_certificate
@@ -53,7 +54,7 @@ def test_verify_refuses_a_flipped_character_an_unknown_key_and_a_swapped_number(
 ) -> None:
     token: str = issued["qr_payload"]
     middle = len(token) // 2
-    flipped = token[:middle] + ("x" if token[middle] != "x" else "y") + token[middle + 1 :]
+    flipped = token[:middle] + ("X" if token[middle] != "X" else "Y") + token[middle + 1 :]
     code, _out, err = run(capsys, "verify", flipped)
     assert code == 1
     assert "NOT GENUINE" in err
@@ -69,7 +70,8 @@ def test_verify_refuses_a_flipped_character_an_unknown_key_and_a_swapped_number(
     assert "unknown_key" in err
 
     other_number = issued["number"].replace("000001", "000002")
-    code, _out, err = run(capsys, "verify", issued["qr_url"].replace(issued["number"], other_number))
+    swapped = f"{issued['verify_url'].replace(issued['number'], other_number)}?p={quote(token, safe='')}"
+    code, _out, err = run(capsys, "verify", swapped)
     assert code == 1
     assert "tampered" in err
 

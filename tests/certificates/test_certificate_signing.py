@@ -1,4 +1,5 @@
-"""The signed QR payload (pure): JWS compact with Ed25519; every kind of forgery is refused with a reason."""
+"""The QR payload issued before the CWT (pure): JWS compact with Ed25519. Such payloads keep verifying
+through the same entry point as the new ones, and every kind of forgery is refused with a reason."""
 
 from __future__ import annotations
 
@@ -11,9 +12,11 @@ import pytest
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
 
+from app.certificates.jws import sign_jws as sign_claims
+from app.certificates.jws import verify_jws as verify_token
 from app.certificates.keys import kid_of, okp_key, parse_private_key, private_pem, public_jwk
 from app.certificates.numbers import CertificateNumber
-from app.certificates.signing import Claims, PayloadRefused, sign_claims, verify_input, verify_token
+from app.certificates.signing import Claims, PayloadRefused, verify_input
 from app.errors import InvalidInput
 
 NUMBER = str(CertificateNumber(2026, 123))

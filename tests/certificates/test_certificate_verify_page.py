@@ -49,7 +49,9 @@ def test_a_refusal_in_force_says_not_certified_in_red_with_the_vehicle_and_table
 def test_the_qr_url_shows_whether_its_signature_checks_out(
     issued: dict[str, Any], client: TestClient
 ) -> None:
-    genuine = client.get(issued["qr_url"].removeprefix("http://127.0.0.1:8000"))
+    assert issued["qr_url"].startswith("HTTP://127.0.0.1:8000/V/")
+    genuine = client.get(issued["qr_url"].removeprefix("HTTP://127.0.0.1:8000"))
+    assert genuine.url.path == f"/verify/{issued['number']}"
     assert '<div class="qr-check qr-check--genuine" id="qr-check">' in genuine.text
     assert '<p class="qr-check__title">The QR code is genuine</p>' in genuine.text
     technical = genuine.text.split('<div class="details__text">', 1)[1]
