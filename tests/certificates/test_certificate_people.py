@@ -300,7 +300,7 @@ def test_an_admin_adds_an_officer_with_a_name_and_badge_and_then_changes_them(
     [
         ({"name": ""}, "name", "Enter the person"),
         ({"name": "N" * 101}, "name", "Keep the name to 100 characters"),
-        ({"name": "Ngozi\u200bEze"}, "name", "Use letters, spaces and punctuation only"),
+        ({"name": "Ngozi\u200bEze"}, "name", "Remove the invisible character U+200B"),
         ({"name": "Ngozi Eze", "badge": "<b>12</b>"}, "badge", "Use up to 32 letters"),
     ],
 )

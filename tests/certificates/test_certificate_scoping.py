@@ -28,19 +28,24 @@ def test_another_station_gets_404_for_the_certificate_and_its_pdf(api: TestClien
     assert set(unknown) == set(api.get(f"/api/v1/certificates/{number}", headers=other).json())
 
 
-def test_a_certificate_issued_by_an_officer_names_a_role_not_an_email(
+def test_a_certificate_issued_by_an_officer_names_a_role_and_the_name_not_an_email(
     api: TestClient, session: Session
 ) -> None:
     register(api)
     inspection_id = weigh(api)
     officer = create_user(
-        session, email="ada.officer@example.ng", password="a long pass phrase 1", role="officer"
+        session,
+        email="ada.officer@example.ng",
+        password="a long pass phrase 1",
+        role="officer",
+        name="Ada Obi",
+        badge="LAG-1234",
     )
     issued = issue_certificate(
         session, inspection_id=inspection_id, actor=Actor.of_user(officer), settings=get_settings()
     )
     answer = api.get(f"/api/v1/certificates/{issued.certificate.number}")
     assert answer.status_code == 200  # the station's inspection, though an officer issued it
-    assert answer.json()["issued_by"] == {"role": "officer", "name": "Inspection officer"}
+    assert answer.json()["issued_by"] == {"role": "officer", "name": "Ada Obi (badge LAG-1234)"}
     assert "ada.officer" not in answer.text
     assert "@" not in answer.text

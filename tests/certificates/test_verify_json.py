@@ -132,10 +132,10 @@ def test_a_payload_issued_before_the_cwt_still_verifies_everywhere(
     assert body["qr_url"] == f"http://127.0.0.1:8000/verify/{number}?p={token}"
     api.headers.pop("Authorization")
     page = client.get(body["qr_url"].removeprefix("http://127.0.0.1:8000"))
-    assert "QR code genuine" in page.text
+    assert '<p class="qr-check__title">The QR code is genuine</p>' in page.text
     assert client.get(f"/api/v1/verify/{number}", params={"p": token}).json()["qr"] == "genuine"
     assert client.get(f"/verify/{number}", params={"p": token}, headers=JSON).json()["qr"] == "genuine"
     assert main(["verify", body["qr_url"]]) == 0
-    assert f"certificate {number} for BDG 252 QH" in capsys.readouterr().out
+    assert f"refusal {number} for BDG 252 QH" in capsys.readouterr().out
     forged = token[:-3] + ("AAA" if not token.endswith("AAA") else "BBB")
     assert client.get(f"/api/v1/verify/{number}", params={"p": forged}).json()["qr"] == "not_genuine"
