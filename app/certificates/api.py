@@ -150,7 +150,6 @@ def read_certificate_pdf(
     response_model=VerificationOut,
     response_model_exclude_none=True,
     responses=error_responses(404, 422),
-    tags=["verification"],
     summary="Verify a certificate or refusal: public, no key needed",
 )
 def verify_certificate(

@@ -85,7 +85,7 @@ def test_create_user_refuses_an_email_with_a_refused_character(
 ) -> None:
     char, words = REFUSED[bad]
     monkeypatch.setattr("sys.stdin", io.StringIO(PASSWORD + "\n"))
-    code, err = run(capsys, "create-user", f"adm{char}in@example.org", "--role", "admin")
+    code, err = run(capsys, "create-user", f"adm{char}in@example.org", "--role", "admin", "--name", "Ada Obi")
     assert code == 2
     assert err.startswith("trikecert: email: remove")
     assert words in err
@@ -96,7 +96,7 @@ def test_create_user_refuses_a_password_with_a_control_character(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, session: Session
 ) -> None:
     monkeypatch.setattr("sys.stdin", io.StringIO("correct\thorse battery\n"))
-    code, err = run(capsys, "create-user", "admin@example.org", "--role", "admin")
+    code, err = run(capsys, "create-user", "admin@example.org", "--role", "admin", "--name", "Ada Obi")
     assert code == 2
     assert "password: remove the control character U+0009 (TAB)" in err
     assert session.scalars(select(User)).all() == []

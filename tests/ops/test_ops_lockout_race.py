@@ -40,7 +40,7 @@ def served(engine: Engine, database_url: str, tmp_path: Path) -> Iterator[str]:
     """An officer account made with `trikecert create-user`, then `trikecert serve --workers 2`."""
     env = dict(os.environ, TRIKECERT_DATABASE_URL=database_url)
     subprocess.run(
-        [BIN / "trikecert", "create-user", EMAIL, "--role", "officer"],
+        [BIN / "trikecert", "create-user", EMAIL, "--role", "officer", "--name", "Rita Racer"],
         input=PASSWORD + "\n",
         env=env,
         capture_output=True,

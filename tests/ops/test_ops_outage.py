@@ -107,7 +107,7 @@ def served(database: Database, tmp_path: Path) -> Iterator[Served]:
     demo = subprocess.run([BIN / "trikecert", "demo"], env=env, capture_output=True, text=True, check=True)
     key = demo.stdout.strip().splitlines()[-1]
     subprocess.run(
-        [BIN / "trikecert", "create-user", OFFICER, "--role", "officer"],
+        [BIN / "trikecert", "create-user", OFFICER, "--role", "officer", "--name", "Olu Officer"],
         env=env,
         input=PASSWORD + "\n",
         capture_output=True,

@@ -36,7 +36,12 @@ def test_admin_actions_station_calls_and_sign_ins_are_recorded_with_who_did_them
         admin_web,
         "/admin/users/new",
         "/admin/users/new",
-        {"email": "new.officer@example.org", "role": "officer", "password": "a long enough secret"},
+        {
+            "email": "new.officer@example.org",
+            "name": "Ngozi Eze",
+            "role": "officer",
+            "password": "a long enough secret",
+        },
     )
     station, key = create_station(session, name="Ọ̀yọ́ weighbridge")
     page = admin_web.get(f"/admin/stations/{station.id}")
