@@ -53,27 +53,32 @@ def claim_check(
     office behind one address may hold several officers, but one address trying password after
     password on many accounts is stopped too).
     """
-    moment = int(time.time() if now is None else now)
-    window = settings.login_lockout_minutes * 60
     limits = [(f"email:{email}", settings.login_max_failures)]
     if client_ip is not None:
         limits.append((f"address:{client_ip}", settings.login_max_failures * ADDRESS_FACTOR))
-    claimed: list[str] = []
-    for key, limit in limits:
-        if _count(session, key=key, limit=limit, window=window, now=moment) > limit:
-            _give_back(session, claimed)  # no password is checked: the other counters keep their count
-            return None
-        claimed.append(key)
-    return ClaimedCheck(keys=tuple(claimed))
+    return _claim(session, limits, settings=settings, now=now)
 
 
 def claim_key(session: Session, *, key: str, limit: int, settings: Settings) -> ClaimedCheck | None:
     """Count one check against a single key (a second-factor code of one account, say); None when
     its allowance is used up within the lock-out window."""
+    return _claim(session, [(key, limit)], settings=settings, now=None)
+
+
+def _claim(
+    session: Session, limits: Sequence[tuple[str, int]], *, settings: Settings, now: float | None
+) -> ClaimedCheck | None:
+    """Count one check against each key in turn; at the first over its limit, give back the counts
+    already taken (no check is made) and answer None."""
+    moment = int(time.time() if now is None else now)
     window = settings.login_lockout_minutes * 60
-    if _count(session, key=key, limit=limit, window=window, now=int(time.time())) > limit:
-        return None
-    return ClaimedCheck(keys=(key,))
+    claimed: list[str] = []
+    for key, limit in limits:
+        if _count(session, key=key, limit=limit, window=window, now=moment) > limit:
+            _give_back(session, claimed)
+            return None
+        claimed.append(key)
+    return ClaimedCheck(keys=tuple(claimed))
 
 
 def settle_check(session: Session, check: ClaimedCheck, *, outcome: str) -> None:
