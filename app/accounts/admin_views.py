@@ -20,7 +20,7 @@ from app.accounts.service import (
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
 from app.ids import UserId
-from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
+from app.web.deps import AdminLogin, AdminPost, ConfirmedAdminPost, FormDep, SessionDep
 from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
 
@@ -47,8 +47,9 @@ def new_user_form(request: Request, login: AdminLogin) -> Response:
 
 
 @router.post("/new")
-def add_user(request: Request, session: SessionDep, login: AdminPost, form: FormDep) -> Response:
-    """Create the account, or show the form again with the problems."""
+def add_user(request: Request, session: SessionDep, login: ConfirmedAdminPost, form: FormDep) -> Response:
+    """Create the account (it grants a role, so the admin proves who they are again after five
+    minutes), or show the form again with the problems."""
     errors = FormErrors()
     values = {
         "email": text(form, "email", errors, limit=254),
@@ -148,7 +149,7 @@ def password_form(request: Request, session: SessionDep, login: AdminLogin, user
 
 @router.post("/{user_id}/password")
 def reset_password(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep, user_id: UserId
+    request: Request, session: SessionDep, login: ConfirmedAdminPost, form: FormDep, user_id: UserId
 ) -> Response:
     """Set the new password and end the account's other sessions."""
     user = get_user(session, user_id)

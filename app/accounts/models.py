@@ -54,6 +54,9 @@ class UserSession(Base):
     flash: Mapped[str | None] = mapped_column(String(500))
     # When this session last passed the second factor (None: not yet, or not needed).
     second_factor_at: Mapped[datetime | None] = mapped_column(UTCDateTime())
+    # When this session last proved who it is (the password, and the code when one is needed): what
+    # cannot be undone asks again when this is older than a few minutes (app/accounts/reauth.py).
+    verified_at: Mapped[datetime | None] = mapped_column(UTCDateTime())
 
     user: Mapped[User] = relationship(lazy="joined")
 

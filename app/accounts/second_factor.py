@@ -173,7 +173,7 @@ def check_code(session: Session, *, user: User, code: str, settings: Settings) -
 def mark_passed(session: Session, record: UserSession) -> None:
     """This browser session has passed the second factor now."""
     begin_write(session)
-    record.second_factor_at = utcnow()
+    record.second_factor_at = record.verified_at = utcnow()
     session.commit()
 
 

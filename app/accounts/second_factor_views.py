@@ -15,7 +15,7 @@ from app.accounts.views import safe_next
 from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import UserId
-from app.web.deps import AdminPost, FormDep, PendingLogin, PendingPost, SessionDep
+from app.web.deps import ConfirmedAdminPost, FormDep, PendingLogin, PendingPost, SessionDep
 from app.web.forms import FormErrors, text
 from app.web.templating import render
 
@@ -129,7 +129,7 @@ def confirm_enrolment(request: Request, session: SessionDep, login: PendingPost,
 
 
 @router.post("/admin/users/{user_id}/two-factor/reset")
-def reset_second_factor(session: SessionDep, login: AdminPost, user_id: UserId) -> Response:
+def reset_second_factor(session: SessionDep, login: ConfirmedAdminPost, user_id: UserId) -> Response:
     """Remove an account's second factor: it enrols again at its next sign-in (recorded in the audit log)."""
     user = get_user(session, user_id)
     second_factor.reset_second_factor(session, user=user)

@@ -42,6 +42,7 @@ def start_session(session: Session, *, user: User, settings: Settings) -> NewSes
         csrf_token=secrets.token_urlsafe(32),
         created_at=now,
         last_seen_at=now,
+        verified_at=now,
         expires_at=now + timedelta(hours=settings.session_absolute_hours),
     )
     session.add(record)

@@ -22,7 +22,7 @@ from app.errors import ServiceError
 from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.inspections.wording import document_kind, issued_message, revoked_message
-from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import ConfirmedAdminPost, CurrentLogin, FormDep, PostLogin, SessionDep
 from app.web.forms import FormErrors, text
 from app.web.templating import render
 
@@ -100,9 +100,10 @@ def officer_certificate_pdf(
 
 @router.post("/certificates/{number}/revoke")
 def revoke_from_page(
-    request: Request, number: NumberPath, session: SessionDep, login: PostLogin, form: FormDep
+    request: Request, number: NumberPath, session: SessionDep, login: ConfirmedAdminPost, form: FormDep
 ) -> Response:
-    """Revoke with a reason (administrators only), then show the certificate."""
+    """Revoke with a reason (administrators only, having proved who they are within five minutes),
+    then show the certificate."""
     certificate = get_certificate(session, number)
     errors = FormErrors()
     reason = text(form, "reason", errors, limit=REASON_LENGTH)

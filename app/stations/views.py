@@ -37,7 +37,7 @@ from app.stations.service import (
     update_station,
 )
 from app.web import submissions
-from app.web.deps import AdminLogin, AdminPost, FormDep, SessionDep
+from app.web.deps import AdminLogin, AdminPost, ConfirmedAdminPost, FormDep, SessionDep
 from app.web.forms import FormErrors, parse_decimal, text
 from app.web.templating import render
 
@@ -287,7 +287,7 @@ def edit_station(
 
 @router.post("/admin/stations/{station_id}/key")
 def rotate_station_key(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep, station_id: StationId
+    request: Request, session: SessionDep, login: ConfirmedAdminPost, form: FormDep, station_id: StationId
 ) -> Response:
     """Give the station a new key and show it once; the old key stops working at once."""
     station = get_station(session, station_id)

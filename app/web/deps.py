@@ -9,14 +9,16 @@ from sqlalchemy.orm import Session
 from starlette.datastructures import FormData
 from starlette.requests import Request
 
-from app.accounts import second_factor
+from app.accounts import reauth, second_factor
 from app.accounts.models import UserSession
 from app.accounts.sessions import load_session, pop_flash
 from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.db import get_session
+from app.errors import ServiceError
 from app.web import cookies
 from app.web.csrf import CsrfRefused, check_session_token
+from app.web.forms import FormErrors, secret, text
 
 SessionDep = Annotated[Session, Depends(get_session)]
 
@@ -33,6 +35,21 @@ class SignInRequired(Exception):
 
 class Forbidden(Exception):
     """Signed in, but the role does not allow this page (403)."""
+
+
+class ConfirmIdentity(Exception):
+    """An action that cannot be undone, from a session whose last check is over five minutes old:
+    the page asks for the password (and a code) again and posts the same form back, so the action
+    goes on once they are right. `fields` are the form's own values, carried as hidden inputs."""
+
+    def __init__(
+        self, *, action: str, fields: list[tuple[str, str]], errors: dict[str, str], status: int
+    ) -> None:
+        super().__init__(action)
+        self.action = action
+        self.fields = fields
+        self.errors = errors
+        self.status = status
 
 
 def _live_session(request: Request, session: Session) -> UserSession | None:
@@ -124,3 +141,66 @@ def admin_post(login: PostLogin) -> UserSession:
 
 AdminLogin = Annotated[UserSession, Depends(admin_login)]
 AdminPost = Annotated[UserSession, Depends(admin_post)]
+
+_CONFIRMATION_FIELDS = {"csrf_token", reauth.PASSWORD_FIELD, reauth.CODE_FIELD}
+
+
+def _carried(form: FormData) -> list[tuple[str, str]]:
+    return [
+        (name, value)
+        for name, value in form.multi_items()
+        if isinstance(value, str) and name not in _CONFIRMATION_FIELDS
+    ]
+
+
+def _confirmed(request: Request, session: Session, login: UserSession, form: FormData) -> UserSession:
+    """The session, once it proved who it is within five minutes (now, from this form, if need be)."""
+    if reauth.is_fresh(login):
+        return login
+    errors = FormErrors()
+    if reauth.PASSWORD_FIELD in form:
+        password = secret(form, reauth.PASSWORD_FIELD, errors, limit=1000)
+        code = text(form, reauth.CODE_FIELD, errors, limit=40)
+        if not password:
+            errors.add(reauth.PASSWORD_FIELD, "Enter your password")
+        if not code and reauth.needs_code(login, get_settings()):
+            errors.add(reauth.CODE_FIELD, "Enter the 6-digit code your app shows now")
+        if not errors:
+            try:
+                reauth.confirm(
+                    session,
+                    record=login,
+                    password=password,
+                    code=code,
+                    client_ip=request.client.host if request.client else None,
+                    settings=get_settings(),
+                )
+                return login
+            except ServiceError as error:
+                errors.add_problems(
+                    error.problems,
+                    {reauth.PASSWORD_FIELD: reauth.PASSWORD_FIELD, reauth.CODE_FIELD: reauth.CODE_FIELD},
+                    reauth.PASSWORD_FIELD,
+                )
+    raise ConfirmIdentity(
+        action=request.url.path,
+        fields=_carried(form),
+        errors=errors.messages,
+        status=422 if errors else 401,
+    )
+
+
+def confirmed_post(request: Request, session: SessionDep, login: PostLogin, form: FormDep) -> UserSession:
+    """A checked POST that cannot be undone: the password and code again if the last check is old."""
+    return _confirmed(request, session, login, form)
+
+
+def confirmed_admin_post(
+    request: Request, session: SessionDep, login: AdminPost, form: FormDep
+) -> UserSession:
+    """A checked POST by an administrator that cannot be undone (see confirmed_post)."""
+    return _confirmed(request, session, login, form)
+
+
+ConfirmedPost = Annotated[UserSession, Depends(confirmed_post)]
+ConfirmedAdminPost = Annotated[UserSession, Depends(confirmed_admin_post)]

@@ -11,11 +11,13 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts import reauth
 from app.api.errors import DATABASE_ERRORS, note_outage, retry_later_headers
+from app.config import get_settings
 from app.db import is_outage
 from app.errors import ServiceError
 from app.web.csrf import CsrfRefused
-from app.web.deps import Forbidden, SignInRequired
+from app.web.deps import ConfirmIdentity, Forbidden, SignInRequired
 from app.web.templating import render
 
 Handler = Callable[[Request, Exception], Awaitable[Response]]
@@ -78,6 +80,23 @@ async def on_forbidden(request: Request, _exc: Exception) -> Response:
     return error_page(request, 403, "Only an administrator can use this page.")
 
 
+async def on_confirm_identity(request: Request, exc: Exception) -> Response:
+    """Ask for the password (and a code) again, carrying the form so the action goes on after."""
+    assert isinstance(exc, ConfirmIdentity)
+    login = getattr(request.state, "login", None)
+    return render(
+        request,
+        "accounts/confirm.html",
+        {
+            "action": exc.action,
+            "fields": exc.fields,
+            "errors": exc.errors,
+            "needs_code": login is not None and reauth.needs_code(login, get_settings()),
+        },
+        status_code=exc.status,
+    )
+
+
 def _fallback(previous: Handler | None, html: Callable[[Request, Exception], Response]) -> Handler:
     async def handler(request: Request, exc: Exception) -> Response:
         if wants_html(request) or previous is None:
@@ -128,6 +147,7 @@ def install_web_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(SignInRequired, on_sign_in_required)
     app.add_exception_handler(CsrfRefused, on_csrf_refused)
     app.add_exception_handler(Forbidden, on_forbidden)
+    app.add_exception_handler(ConfirmIdentity, on_confirm_identity)
     pages: list[tuple[type[Exception], Callable[[Request, Exception], Response]]] = [
         (StarletteHTTPException, _http_page),
         (ServiceError, _service_page),

@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+from datetime import timedelta
+
 from certificate_helpers import register, weigh
 from fastapi.testclient import TestClient
+from sqlalchemy import select, update
 from sqlalchemy.orm import Session
-from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, hidden, sign_in
+from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, form_values, hidden, sign_in
 
+from app.accounts.models import UserSession
 from app.accounts.service import create_user
+from app.audit.models import AuditEvent
+from app.db import utcnow
 
 
 def signed_in(client: TestClient, session: Session, role: str) -> str:
@@ -78,4 +84,52 @@ def test_an_officer_cannot_revoke(api: TestClient, session: Session) -> None:
     location, token = issue_from_page(api, session, "officer")
     refused = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "I would like to"})
     assert refused.status_code == 403
+    assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text
+
+
+def make_stale(session: Session) -> None:
+    """Every browser session last proved who it is six minutes ago."""
+    session.execute(update(UserSession).values(verified_at=utcnow() - timedelta(minutes=6)))
+    session.commit()
+
+
+def test_revoking_after_five_minutes_asks_for_the_password_again_then_goes_ahead(
+    api: TestClient, session: Session
+) -> None:
+    location, token = issue_from_page(api, session, "admin")
+    make_stale(session)
+    asked = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "Forged ticket"})
+    assert asked.status_code == 401
+    assert "<h1>Confirm it is you</h1>" in asked.text
+    assert 'name="reason" value="Forged ticket"' in asked.text  # the form goes on with what was typed
+    assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text  # not revoked yet
+
+    carried = {**form_values(asked.text), "reauth_password": "not my password"}
+    wrong = api.post(f"{location}/revoke", data=carried)
+    assert wrong.status_code == 422
+    assert "That is not your password" in wrong.text
+    assert 'aria-describedby="reauth_password-error"' in wrong.text
+    assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text
+
+    carried = {**form_values(wrong.text), "reauth_password": PASSWORD}
+    done = api.post(f"{location}/revoke", data=carried)
+    assert done.status_code == 200, done.text
+    assert "revoked." in done.text
+    actions = session.scalars(select(AuditEvent.action).order_by(AuditEvent.id)).all()
+    assert actions[-3:] == [
+        "user.reauthentication_failed",
+        "user.reauthenticated",
+        "certificate.revoked",
+    ]
+
+
+def test_wrong_confirming_passwords_count_towards_the_lock_out(api: TestClient, session: Session) -> None:
+    location, token = issue_from_page(api, session, "admin")
+    make_stale(session)
+    form = {"csrf_token": token, "reason": "Forged ticket", "reauth_password": "guess"}
+    statuses = [api.post(f"{location}/revoke", data=form).status_code for _ in range(6)]
+    assert statuses[:5] == [422] * 5
+    locked = api.post(f"{location}/revoke", data={**form, "reauth_password": PASSWORD})
+    assert locked.status_code == 422
+    assert "too many wrong passwords" in locked.text.lower()
     assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text

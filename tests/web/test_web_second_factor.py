@@ -4,11 +4,8 @@ codes, and an administrator's reset (recorded in the audit log)."""
 
 from __future__ import annotations
 
-import re
-import time
 from collections.abc import Iterator
 
-import pyotp
 import pytest
 from fastapi.testclient import TestClient
 from httpx import Response
@@ -18,7 +15,7 @@ from sqlalchemy.orm import Session
 from app import config
 from app.accounts.models import RecoveryCode, User
 from app.audit.models import AuditEvent
-from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, hidden, sign_in
+from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, code_at, enrol, hidden, sign_in
 
 
 @pytest.fixture
@@ -29,26 +26,6 @@ def required(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     yield
     monkeypatch.delenv("TRIKECERT_MFA")
     config.get_settings.cache_clear()
-
-
-def code_at(secret: str, steps_from_now: int = 0) -> str:
-    """What an authenticator app shows for this secret, `steps_from_now` time steps from now."""
-    return pyotp.TOTP(secret).at(time.time() + 30 * steps_from_now)
-
-
-def enrol(client: TestClient) -> tuple[str, list[str]]:
-    """Sign-in's first step done: open the enrolment page, confirm a code; the secret and recovery codes."""
-    page = client.get("/account/two-factor")
-    assert page.status_code == 200
-    secret = re.search(r'<code id="secret" class="secret">([A-Z2-7]+)</code>', page.text)
-    assert secret, page.text
-    assert "<svg" in page.text  # the QR code, drawn on the page itself
-    form = {"csrf_token": hidden(page.text), "next": "/", "code": code_at(secret[1], -1)}
-    shown = client.post("/account/two-factor", data=form)
-    assert shown.status_code == 200, shown.text
-    codes = re.findall(r"<li><code>([A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4})</code></li>", shown.text)
-    assert "They are shown only now" in shown.text
-    return secret[1], codes
 
 
 def enter_code(client: TestClient, code: str) -> Response:

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import os
 import re
+import time
 from decimal import Decimal
 from html.parser import HTMLParser
 from pathlib import Path
 
+import pyotp
 from fastapi.testclient import TestClient
 from httpx import Response
 
@@ -81,3 +83,23 @@ def post_form(client: TestClient, page_url: str, action: str, fields: dict[str, 
         action, data={**form_values(page.text), **fields}, follow_redirects=False
     )
     return response
+
+
+def code_at(secret: str, steps_from_now: int = 0) -> str:
+    """What an authenticator app shows for this secret, `steps_from_now` time steps from now."""
+    return pyotp.TOTP(secret).at(time.time() + 30 * steps_from_now)
+
+
+def enrol(client: TestClient) -> tuple[str, list[str]]:
+    """Sign-in's first step done: open the enrolment page, confirm a code; the secret and recovery codes."""
+    page = client.get("/account/two-factor")
+    assert page.status_code == 200
+    secret = re.search(r'<code id="secret" class="secret">([A-Z2-7]+)</code>', page.text)
+    assert secret, page.text
+    assert "<svg" in page.text  # the QR code, drawn on the page itself
+    form = {"csrf_token": hidden(page.text), "next": "/", "code": code_at(secret[1], -1)}
+    shown = client.post("/account/two-factor", data=form)
+    assert shown.status_code == 200, shown.text
+    codes = re.findall(r"<li><code>([A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4})</code></li>", shown.text)
+    assert "They are shown only now" in shown.text
+    return secret[1], codes
