@@ -15,6 +15,7 @@ from sqlalchemy import DateTime, Engine, MetaData, create_engine, event, exc, ma
 from sqlalchemy.orm import DeclarativeBase, Session, sessionmaker
 from sqlalchemy.types import TypeDecorator
 from starlette.concurrency import run_in_threadpool
+from starlette.requests import Request
 
 from app.config import get_settings
 
@@ -262,13 +263,21 @@ def get_sessionmaker() -> sessionmaker[Session]:
     return sessionmaker(bind=get_engine(), expire_on_commit=False)
 
 
-async def get_session() -> AsyncIterator[Session]:
-    """A FastAPI dependency: one session per request, closed afterwards.
+REQUEST_ORIGIN_KEY = "trikecert_request_origin"
+
+
+async def get_session(request: Request) -> AsyncIterator[Session]:
+    """A FastAPI dependency: one session per request, closed afterwards; it carries the request's
+    client address and id, for the audit log.
 
     Async, so that opening it costs no trip through the thread pool (a new session touches no
     database); closing goes to the pool only when a transaction is still open (its rollback is I/O).
     """
     session = get_sessionmaker()()
+    session.info[REQUEST_ORIGIN_KEY] = (
+        request.client.host if request.client else None,
+        getattr(request.state, "request_id", None),
+    )
     try:
         yield session
     finally:

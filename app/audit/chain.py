@@ -27,6 +27,8 @@ class EventFields:
     target_id: str | None
     details: str
     previous_hash: str
+    client_address: str | None = None
+    request_id: str | None = None
 
 
 def canonical_json(value: Any) -> str:
@@ -37,19 +39,21 @@ def canonical_json(value: Any) -> str:
 def event_hash(fields: EventFields) -> str:
     """SHA-256 of the previous hash and the event's fields, hex."""
     moment = fields.occurred_at.astimezone(UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
-    body = canonical_json(
-        [
-            fields.id,
-            moment,
-            fields.actor_kind,
-            fields.actor_id,
-            fields.actor_label,
-            fields.action,
-            fields.target_type,
-            fields.target_id,
-            fields.details,
-        ]
-    )
+    covered: list[Any] = [
+        fields.id,
+        moment,
+        fields.actor_kind,
+        fields.actor_id,
+        fields.actor_label,
+        fields.action,
+        fields.target_type,
+        fields.target_id,
+        fields.details,
+    ]
+    # Events from before the request's origin was recorded have neither, and hash as they always did.
+    if fields.client_address is not None or fields.request_id is not None:
+        covered += [fields.client_address, fields.request_id]
+    body = canonical_json(covered)
     return hashlib.sha256(f"{fields.previous_hash}\n{body}".encode()).hexdigest()
 
 

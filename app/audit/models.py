@@ -27,4 +27,8 @@ class AuditEvent(Base):
     target_id: Mapped[str | None] = mapped_column(String(64))
     details: Mapped[str] = mapped_column(Text)  # canonical JSON, exactly as hashed
     previous_hash: Mapped[str] = mapped_column(String(64))
+    # Where the request came from (the client's address, as trusted proxies report it) and its id, as
+    # in the access log; None for the command line and for events recorded before they were kept.
+    client_address: Mapped[str | None] = mapped_column(String(45))
+    request_id: Mapped[str | None] = mapped_column(String(64))
     hash: Mapped[str] = mapped_column(String(64), unique=True)

@@ -24,7 +24,7 @@ from app.accounts.models import LoginAttempt, User
 from app.audit.chain import GENESIS, EventFields, canonical_json, event_hash
 from app.audit.models import AuditEvent
 from app.certificates.models import Certificate, CertificateRevocation, SigningKey
-from app.db import utcnow
+from app.db import REQUEST_ORIGIN_KEY, utcnow
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 
@@ -185,6 +185,7 @@ def _append(session: Session, items: list[tuple[str, object, str, dict[str, Any]
     connection = session.connection()
     last_id, previous = _chain_end(connection)
     actor, moment = _actor(session), utcnow()
+    client_address, request_id = session.info.get(REQUEST_ORIGIN_KEY, (None, None))
     rows = []
     for position, (target_type, target, action, details) in enumerate(items, start=last_id + 1):
         fields = EventFields(
@@ -198,6 +199,8 @@ def _append(session: Session, items: list[tuple[str, object, str, dict[str, Any]
             target_id=None if target is None else str(target)[:64],
             details=canonical_json(details),
             previous_hash=previous,
+            client_address=None if client_address is None else str(client_address)[:45],
+            request_id=None if request_id is None else str(request_id)[:64],
         )
         previous = event_hash(fields)
         rows.append({**fields.__dict__, "hash": previous})

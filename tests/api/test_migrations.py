@@ -3,6 +3,7 @@ models describe, and every revision must be reversible: down to an empty databas
 
 from __future__ import annotations
 
+import json
 import os
 import uuid
 from collections.abc import Iterator
@@ -14,11 +15,18 @@ from alembic import command
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
-from sqlalchemy import Engine, create_engine, inspect, text
+from sqlalchemy import Engine, create_engine, func, inspect, select, text
 from sqlalchemy.engine import make_url
+from sqlalchemy.orm import Session
 
 import app.models  # noqa: F401  (registers every table on the metadata)
+from app.audit.models import AuditEvent
+from app.audit.service import verify_log
+from app.certificates.actors import Actor
+from app.certificates.service import issue_certificate, revoke_certificate
+from app.config import get_settings
 from app.db import Base, make_engine
+from app.demo import load_demo
 from app.migrate import alembic_config, is_at_head, upgrade
 
 TEST_DATABASE_ENV = "TRIKECERT_TEST_DATABASE_URL"
@@ -106,3 +114,39 @@ def test_each_revision_steps_down_and_up_one_at_a_time(scratch_engine: Engine) -
     assert tables(scratch_engine) == set()
     upgrade(scratch_engine)
     assert differences(scratch_engine) == []
+
+
+def test_certificate_history_from_before_the_audit_log_joins_the_chain_once(scratch_engine: Engine) -> None:
+    """A database whose certificates were issued before the audit log existed: taken up to head, the
+    log holds each certificate_audit row as an event, the chain is intact, and a second pass adds none."""
+    upgrade(scratch_engine)
+    settings = get_settings()
+    with Session(scratch_engine) as session:
+        demo = load_demo(session, settings)
+        assert demo.inspection is not None
+        admin = Actor(label="user:1:admin@example.org", station_id=None, user_id=None, admin=True)
+        issued = issue_certificate(session, inspection_id=demo.inspection.id, actor=admin, settings=settings)
+        revoke_certificate(session, number=issued.certificate.number, actor=admin, reason="Forged ticket")
+        number = issued.certificate.number
+    downgrade(scratch_engine, "7e3a9c1d5b20")  # before the audit log: its table goes
+    assert "audit_event" not in tables(scratch_engine)
+    upgrade(scratch_engine)
+    with Session(scratch_engine) as session:
+        imported = session.execute(
+            select(AuditEvent.action, AuditEvent.target_id, AuditEvent.actor_label, AuditEvent.details)
+            .where(AuditEvent.actor_kind == "imported")
+            .order_by(AuditEvent.id)
+        ).all()
+        assert [(row.action, row.target_id) for row in imported] == [
+            ("certificate.issued", number),
+            ("certificate.revoked", number),
+        ]
+        assert json.loads(imported[1].details)["reason"] == "Forged ticket"
+        assert imported[0].actor_label == "user:1:admin@example.org"
+        assert verify_log(session).intact
+        count = session.scalar(select(func.count()).select_from(AuditEvent))
+    downgrade(scratch_engine, "-1")
+    upgrade(scratch_engine)
+    with Session(scratch_engine) as session:
+        assert session.scalar(select(func.count()).select_from(AuditEvent)) == count
+        assert verify_log(session).intact

@@ -30,6 +30,8 @@ def independent_hash(fields: EventFields) -> str:
         fields.target_id,
         fields.details,
     ]
+    if fields.client_address is not None or fields.request_id is not None:
+        body += [fields.client_address, fields.request_id]
     text = json.dumps(body, separators=(",", ":"), ensure_ascii=False)
     return hashlib.sha256(f"{fields.previous_hash}\n{text}".encode()).hexdigest()
 
@@ -57,6 +59,25 @@ def chain(length: int) -> Events:
 def test_the_hash_is_the_documented_one() -> None:
     fields, stored = chain(1)[0]
     assert event_hash(fields) == stored
+
+
+def test_an_event_without_a_request_origin_hashes_as_events_did_before_origins_were_kept() -> None:
+    fields, _stored = chain(1)[0]
+    # Computed by the code of the release before origins were kept: stored events must still verify.
+    assert event_hash(fields) == "4090b91822b972a01cb44da338809ddd4724175b92b544b47068a5774fcfaace"
+
+
+@pytest.mark.parametrize(
+    ("client_address", "request_id"), [("203.0.113.7", None), (None, "3f2a9c"), ("2001:db8::1", "3f2a9c")]
+)
+def test_the_request_origin_is_covered_by_the_hash(
+    client_address: str | None, request_id: str | None
+) -> None:
+    fields = replace(chain(1)[0][0], client_address=client_address, request_id=request_id)
+    stored = event_hash(fields)
+    assert stored == independent_hash(fields)
+    assert stored != event_hash(replace(fields, client_address="198.51.100.9"))
+    assert stored != event_hash(replace(fields, request_id="forged"))
 
 
 def test_an_untouched_chain_is_intact() -> None:

@@ -17,9 +17,10 @@ from study_data import STUDY_VEHICLE
 
 from app.accounts.models import User
 from app.audit.models import AuditEvent
+from app.audit.service import verify_log
 from app.certificates.guard import immutability_lifted
 from app.stations.service import create_station
-from web.webtools import ADMIN_EMAIL, hidden, post_form, sign_in
+from web.webtools import ADMIN_EMAIL, PASSWORD, hidden, post_form, sign_in
 
 BIN = Path(sys.executable).parent
 
@@ -130,3 +131,20 @@ def test_the_command_says_an_untouched_log_is_intact(session: Session, database_
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "the audit log is intact: 1 events checked"
+
+
+def test_each_event_carries_the_client_address_and_the_request_id_of_the_access_log(
+    client: TestClient, admin: User, session: Session
+) -> None:
+    page = client.get("/login")
+    signed = client.post(
+        "/login",
+        data={"email": ADMIN_EMAIL, "password": PASSWORD, "csrf_token": hidden(page.text)},
+        headers={"X-Request-ID": "walk-7f3a"},
+        follow_redirects=False,
+    )
+    assert signed.status_code == 303
+    assert signed.headers["X-Request-ID"] == "walk-7f3a"
+    sign_ins = [e for e in events(session) if e.action == "sign_in.success"]
+    assert [(e.client_address, e.request_id) for e in sign_ins] == [("testclient", "walk-7f3a")]
+    assert verify_log(session).intact
