@@ -44,6 +44,10 @@ def cmd_serve(args: argparse.Namespace) -> int:
     if args.workers > 1 and not os.environ.get("PROMETHEUS_MULTIPROC_DIR"):
         # Workers are separate processes: they share request metrics through files in this folder.
         os.environ["PROMETHEUS_MULTIPROC_DIR"] = tempfile.mkdtemp(prefix="trikecert-metrics-")
+    from app.audit.startup import record_start
+
+    with get_sessionmaker()() as session:
+        record_start(session, get_settings())
     proxies = trusted_proxies(get_settings().forwarded_allow_ips)
     uvicorn.run(
         "app.main:create_app",

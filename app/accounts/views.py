@@ -12,7 +12,9 @@ from app.accounts import throttle
 from app.accounts.login import sign_in
 from app.accounts.service import EMAIL_LENGTH, MAX_PASSWORD_LENGTH
 from app.accounts.sessions import end_session, load_session
+from app.audit.recorder import Actor, act_as, record_event
 from app.config import get_settings
+from app.db import begin_write
 from app.text import character_problem
 from app.web import cookies, csrf
 from app.web.deps import FormDep, SessionDep
@@ -142,6 +144,9 @@ def logout(request: Request, session: SessionDep, form: FormDep) -> Response:
     record = load_session(session, token=token, settings=get_settings()) if token else None
     if record is not None:
         csrf.check_session_token(form, record.csrf_token)
+        act_as(session, Actor("user", record.user.id, record.user.email))
+        begin_write(session)
+        record_event(session, action="sign_out", target_type="user", target_id=record.user_id, details={})
         end_session(session, token=token or "")
     response = RedirectResponse("/login?signed_out=1", status_code=303)
     cookies.clear_cookie(response, request, cookies.SESSION)

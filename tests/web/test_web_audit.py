@@ -17,8 +17,11 @@ from study_data import STUDY_VEHICLE
 
 from app.accounts.models import User
 from app.audit.models import AuditEvent
+from app.audit.recorder import acting_from_command_line
 from app.audit.service import verify_log
+from app.audit.startup import record_start
 from app.certificates.guard import immutability_lifted
+from app.config import Settings
 from app.stations.service import create_station
 from web.webtools import ADMIN_EMAIL, PASSWORD, hidden, post_form, sign_in
 
@@ -147,4 +150,29 @@ def test_each_event_carries_the_client_address_and_the_request_id_of_the_access_
     assert signed.headers["X-Request-ID"] == "walk-7f3a"
     sign_ins = [e for e in events(session) if e.action == "sign_in.success"]
     assert [(e.client_address, e.request_id) for e in sign_ins] == [("testclient", "walk-7f3a")]
+    assert verify_log(session).intact
+
+
+def test_signing_out_is_recorded(web: TestClient, session: Session) -> None:
+    signed_out = web.post("/logout", data={"csrf_token": hidden(web.get("/").text)}, follow_redirects=False)
+    assert signed_out.status_code == 303
+    last = events(session)[-1]
+    assert (last.actor_label, last.action, last.target_type) == ("officer@example.org", "sign_out", "user")
+
+
+def test_the_settings_in_force_at_start_are_recorded_without_any_secret(
+    session: Session, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("TRIKECERT_METRICS_TOKEN", "metrics-token-that-is-secret")
+    monkeypatch.setenv("TRIKECERT_DISPLAY_TIMEZONE", "Africa/Accra")
+    settings = Settings()
+    with acting_from_command_line():
+        record_start(session, settings)
+    started = events(session)[-1]
+    assert (started.actor_kind, started.action) == ("command_line", "service.started")
+    details = json.loads(started.details)
+    assert details["settings"]["display_timezone"] == "Africa/Accra"
+    assert details["settings"]["metrics_token"] == "(set)"
+    assert details["settings"]["mfa"] == settings.mfa_mode()
+    assert "metrics-token-that-is-secret" not in started.details
     assert verify_log(session).intact
