@@ -86,7 +86,7 @@ AUDITED: dict[type[Any], Audited] = {
         "signing_key", ("kid", "source", "active"), lambda r: r.kid, frozenset({"private_pem"})
     ),
     Certificate: Audited("certificate", ("kind", "registration_number", "inspection_id"), lambda r: r.number),
-    CertificateRevocation: Audited("certificate", ("reason",), lambda r: r.certificate_id),
+    CertificateRevocation: Audited("certificate", ("reason",), lambda r: r.certificate.number),
     LoginAttempt: Audited("user", ("email", "client_ip"), lambda r: r.user_id),
 }
 # A change of these columns names the event; other changes are "<type>.changed".

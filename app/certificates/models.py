@@ -91,7 +91,9 @@ class Certificate(Base):
     pdf: Mapped[bytes] = mapped_column(LargeBinary, deferred=True)
     pdf_sha256: Mapped[str] = mapped_column(String(64))
 
-    revocation: Mapped[CertificateRevocation | None] = relationship(lazy="selectin")
+    revocation: Mapped[CertificateRevocation | None] = relationship(
+        lazy="selectin", back_populates="certificate"
+    )
     supersedes: Mapped[Certificate | None] = relationship(
         remote_side=[id], foreign_keys=[supersedes_id], back_populates="superseded_by", lazy="selectin"
     )
@@ -110,6 +112,8 @@ class CertificateRevocation(Base):
     revoked_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
     revoked_by: Mapped[str] = mapped_column(String(200))
     reason: Mapped[str] = mapped_column(Text)
+
+    certificate: Mapped[Certificate] = relationship(back_populates="revocation")
 
 
 class CertificateAudit(Base):

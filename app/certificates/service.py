@@ -177,9 +177,7 @@ def revoke_certificate(
         )
     at = now or utcnow()
     session.add(
-        CertificateRevocation(
-            certificate_id=certificate.id, revoked_at=at, revoked_by=actor.label, reason=reason
-        )
+        CertificateRevocation(certificate=certificate, revoked_at=at, revoked_by=actor.label, reason=reason)
     )
     session.add(
         CertificateAudit(

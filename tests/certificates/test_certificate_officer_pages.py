@@ -121,6 +121,9 @@ def test_revoking_after_five_minutes_asks_for_the_password_again_then_goes_ahead
         "user.reauthenticated",
         "certificate.revoked",
     ]
+    number = location.rsplit("/", 1)[1]
+    revoked = select(AuditEvent.target_id).where(AuditEvent.action == "certificate.revoked")
+    assert session.scalars(revoked).all() == [number]  # found by the number people know it by
 
 
 def test_wrong_confirming_passwords_count_towards_the_lock_out(api: TestClient, session: Session) -> None:

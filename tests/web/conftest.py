@@ -3,16 +3,19 @@ browser tests the real app under uvicorn on a free port with Debian's Chromium."
 
 from __future__ import annotations
 
+import os
 import socket
 import threading
 import time
 from collections.abc import Iterator
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
 import uvicorn
 from fastapi.testclient import TestClient
+from playwright.sync_api import Browser, Page
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
@@ -20,7 +23,16 @@ from app.accounts.service import create_user
 from app.main import create_app
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
-from web.webtools import ADMIN_EMAIL, CHROMIUM, CHROMIUM_ARGS, OFFICER_EMAIL, PASSWORD, STUDY_SEATS, sign_in
+from web.webtools import (
+    ADMIN_EMAIL,
+    AXE_PATH,
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    OFFICER_EMAIL,
+    PASSWORD,
+    STUDY_SEATS,
+    sign_in,
+)
 
 
 @pytest.fixture
@@ -95,3 +107,21 @@ def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[s
 def browser_context_args(browser_context_args: dict[str, Any], live_server: str) -> dict[str, Any]:
     """Every page opens on the live server, 1280 px wide."""
     return {**browser_context_args, "base_url": live_server, "viewport": {"width": 1280, "height": 900}}
+
+
+@pytest.fixture
+def axe_script() -> Path:
+    """axe.min.js; missing is a failure on CI and a skip on a machine without `npm ci`."""
+    if not AXE_PATH.is_file():
+        if os.environ.get("CI"):
+            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+    return AXE_PATH
+
+
+@pytest.fixture
+def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterator[Page]:
+    """A page that may inject axe-core despite the pages' Content-Security-Policy."""
+    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
+    yield context.new_page()
+    context.close()

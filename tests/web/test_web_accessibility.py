@@ -4,14 +4,13 @@ main pages; with TRIKECERT_SCREENSHOTS=1 the same run saves them at 1280 and 360
 from __future__ import annotations
 
 import json
-import os
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Page, expect
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
@@ -20,31 +19,9 @@ from app.inspections.models import Inspection
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
-from web.webtools import ADMIN_EMAIL, PASSWORD, REPO
+from web.webtools import ADMIN_EMAIL, PASSWORD, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations
 
 pytestmark = pytest.mark.browser
-
-AXE_PATH = Path(os.environ.get("TRIKECERT_AXE_PATH", str(REPO / "node_modules" / "axe-core" / "axe.min.js")))
-SCREENSHOTS = REPO / "docs" / "screenshots"
-TAKE_SCREENSHOTS = os.environ.get("TRIKECERT_SCREENSHOTS") == "1"
-
-
-@pytest.fixture
-def axe_script() -> Path:
-    """axe.min.js; missing is a failure on CI and a skip on a machine without `npm ci`."""
-    if not AXE_PATH.is_file():
-        if os.environ.get("CI"):
-            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
-        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
-    return AXE_PATH
-
-
-@pytest.fixture
-def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterator[Page]:
-    """A page that may inject axe-core despite the pages' Content-Security-Policy."""
-    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
-    yield context.new_page()
-    context.close()
 
 
 @pytest.fixture
@@ -57,17 +34,6 @@ def study_inspection(session: Session, study_vehicle: Vehicle, admin: User) -> I
         rules=get_settings().rules(),
         user_id=admin.id,
     )
-
-
-def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
-    """Run axe-core on the page as it stands; every violation with the elements it names."""
-    page.add_script_tag(path=str(script))
-    result: dict[str, Any] = page.evaluate("async () => await axe.run(document)")
-    assert len(result["passes"]) > 10, "axe-core did not run its rules"
-    return [
-        {"id": v["id"], "impact": v["impact"], "help": v["help"], "nodes": [n["target"] for n in v["nodes"]]}
-        for v in result["violations"]
-    ]
 
 
 def submit_invalid_inspection(page: Page) -> None:

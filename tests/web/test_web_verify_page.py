@@ -19,8 +19,7 @@ from study_data import STUDY_READINGS, STUDY_VEHICLE
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.config import get_settings
-from web.test_web_accessibility import AXE_PATH, axe_violations
-from web.webtools import REPO
+from web.webtools import AXE_PATH, REPO, axe_violations
 
 pytestmark = pytest.mark.browser
 

@@ -8,10 +8,12 @@ import time
 from decimal import Decimal
 from html.parser import HTMLParser
 from pathlib import Path
+from typing import Any
 
 import pyotp
 from fastapi.testclient import TestClient
 from httpx import Response
+from playwright.sync_api import Page
 
 PASSWORD = "correct horse battery"
 OFFICER_EMAIL = "officer@example.org"
@@ -35,6 +37,11 @@ CHROMIUM_ARGS = [
     "--disable-sync",
     "--no-first-run",
 ]
+AXE_PATH = Path(os.environ.get("TRIKECERT_AXE_PATH", str(REPO / "node_modules" / "axe-core" / "axe.min.js")))
+SCREENSHOTS = REPO / "docs" / "screenshots"
+TAKE_SCREENSHOTS = os.environ.get("TRIKECERT_SCREENSHOTS") == "1"
+
+
 _TOKEN = re.compile(r'name="(csrf_token|form_token)" value="([^"]*)"')
 
 
@@ -103,3 +110,14 @@ def enrol(client: TestClient) -> tuple[str, list[str]]:
     codes = re.findall(r"<li><code>([A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4})</code></li>", shown.text)
     assert "They are shown only now" in shown.text
     return secret[1], codes
+
+
+def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
+    """Run axe-core on the page as it stands; every violation with the elements it names."""
+    page.add_script_tag(path=str(script))
+    result: dict[str, Any] = page.evaluate("async () => await axe.run(document)")
+    assert len(result["passes"]) > 10, "axe-core did not run its rules"
+    return [
+        {"id": v["id"], "impact": v["impact"], "help": v["help"], "nodes": [n["target"] for n in v["nodes"]]}
+        for v in result["violations"]
+    ]
