@@ -296,13 +296,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def cmd_audit_verify(_args: argparse.Namespace) -> int:
-    """Check the audit log's hash chain; exit 1 when it was tampered with."""
+    """Check the audit log's hash chain from the first event and sign its head; exit 1 when it was
+    tampered with."""
+    from app.audit.checkpoint import record_checkpoint
     from app.audit.service import verify_log
 
     with get_sessionmaker()() as session:
         report = verify_log(session)
+        intact = report.intact and report.events > 0
+        checkpoint = record_checkpoint(session, get_settings(), event_id=report.events) if intact else None
     if report.intact:
         print(f"the audit log is intact: {report.events} events checked")
+        if checkpoint is not None:
+            print(f"checkpoint {checkpoint.id} signed at event {checkpoint.event_id}: {checkpoint.hash}")
         return 0
     print(f"the audit log was tampered with: {report.reason} ({report.events} events before it are intact)")
     return 1

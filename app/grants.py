@@ -37,6 +37,7 @@ PRIVILEGES: dict[str, str] = {
     "login_attempt": APPEND_ONLY,  # the sign-ins' evidence: nobody rewrites it through the app
     "login_throttle": EDITABLE,  # the per-key count of password checks, bumped by one upsert
     "audit_event": APPEND_ONLY,
+    "audit_checkpoint": APPEND_ONLY,  # signed heads of the chain
     "recovery_code": DISPOSABLE,  # a new enrolment or an admin's reset replaces them
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
     "form_submission": APPEND_ONLY,  # a used form token

@@ -71,10 +71,12 @@ class ChainReport:
         return self.broken_at is None
 
 
-def verify_chain(events: Iterable[tuple[EventFields, str]]) -> ChainReport:
-    """Check events in id order, each with its stored hash: ids without gaps from 1, each linked to
-    the one before, each hash matching its fields."""
-    previous, expected_id, count = GENESIS, 1, 0
+def verify_chain(
+    events: Iterable[tuple[EventFields, str]], *, after_id: int = 0, after_hash: str = GENESIS
+) -> ChainReport:
+    """Check events in id order, each with its stored hash: ids without gaps from `after_id + 1`, each
+    linked to the one before (the first to `after_hash`), each hash matching its fields."""
+    previous, expected_id, count = after_hash, after_id + 1, 0
     for fields, stored_hash in events:
         if fields.id != expected_id:
             return ChainReport(

@@ -32,3 +32,18 @@ class AuditEvent(Base):
     client_address: Mapped[str | None] = mapped_column(String(45))
     request_id: Mapped[str | None] = mapped_column(String(64))
     hash: Mapped[str] = mapped_column(String(64), unique=True)
+
+
+class AuditCheckpoint(Base):
+    """A signed statement that the chain was whole up to `event_id`, whose hash was `hash`: made by
+    `trikecert audit-verify` after a full check, published at /api/v1/audit/head, and the point from
+    which the audit page checks, so its cost does not grow with the log."""
+
+    __tablename__ = "audit_checkpoint"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    event_id: Mapped[int] = mapped_column(Integer)
+    hash: Mapped[str] = mapped_column(String(64))
+    created_at: Mapped[datetime] = mapped_column(UTCDateTime())
+    kid: Mapped[str] = mapped_column(String(64))
+    token: Mapped[str] = mapped_column(Text)  # JWS compact (Ed25519) of event_id, hash and created_at

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
-from app.audit.chain import ChainReport, EventFields, verify_chain
+from app.audit.chain import ChainReport
+from app.audit.checkpoint import verify_all
 from app.audit.models import AuditEvent
-
-FIELDS = tuple(EventFields.__dataclass_fields__)
 
 
 def list_events(session: Session, *, page: int, page_size: int) -> tuple[Sequence[AuditEvent], int]:
@@ -20,12 +19,6 @@ def list_events(session: Session, *, page: int, page_size: int) -> tuple[Sequenc
     return session.scalars(query).all(), total
 
 
-def _stored(session: Session) -> Iterator[tuple[EventFields, str]]:
-    rows = session.execute(select(AuditEvent).order_by(AuditEvent.id).execution_options(yield_per=1000))
-    for (event,) in rows:
-        yield EventFields(**{name: getattr(event, name) for name in FIELDS}), event.hash
-
-
 def verify_log(session: Session) -> ChainReport:
-    """Check every event of the log against its hash and its place in the chain."""
-    return verify_chain(_stored(session))
+    """Check every event of the log against its hash and its place in the chain, from the first."""
+    return verify_all(session)

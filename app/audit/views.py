@@ -6,7 +6,8 @@ from fastapi import APIRouter
 from starlette.requests import Request
 from starlette.responses import Response
 
-from app.audit.service import list_events, verify_log
+from app.audit.checkpoint import verify_since_checkpoint
+from app.audit.service import list_events
 from app.config import get_settings
 from app.ids import PageNumber
 from app.web.deps import AdminLogin, SessionDep
@@ -33,7 +34,7 @@ def audit_page(
             "total": total,
             "page": page,
             "pages": max(1, -(-total // PAGE_SIZE)),
-            "report": verify_log(session),
+            "check": verify_since_checkpoint(session, get_settings()),
             "zone_name": get_settings().display_timezone,
         },
     )

@@ -15,6 +15,8 @@ from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
+from app.audit.checkpoint import record_checkpoint
+from app.audit.service import verify_log
 from app.certificates.actors import Actor
 from app.certificates.guard import ImmutableRecord
 from app.certificates.keys import rotate_signing_key
@@ -33,6 +35,7 @@ PROTECTED = {
     "certificate_revocation": ("reason", "'rewritten'"),
     "certificate_audit": ("actor", "'someone else'"),
     "audit_event": ("actor_label", "'someone else'"),
+    "audit_checkpoint": ("hash", "'0'"),
 }
 
 
@@ -47,6 +50,7 @@ def history(api: TestClient, session: Session) -> dict[str, Any]:
     assert issued.status_code == 201, issued.text
     revoke_certificate(session, number=issued.json()["number"], actor=Actor.of_cli(), reason="test")
     rotate_signing_key(session, get_settings())
+    record_checkpoint(session, get_settings(), event_id=verify_log(session).events)
     session.close()
     return {"inspection": submitted.json(), "certificate": issued.json()}
 

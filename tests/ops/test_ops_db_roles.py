@@ -19,6 +19,8 @@ from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
+from app.audit.checkpoint import record_checkpoint
+from app.audit.service import verify_log
 from app.certificates.actors import Actor
 from app.certificates.keys import rotate_signing_key
 from app.certificates.service import revoke_certificate
@@ -35,6 +37,7 @@ PROTECTED = {
     "certificate_revocation": "reason",
     "certificate_audit": "actor",
     "audit_event": "action",
+    "audit_checkpoint": "hash",
     "signing_key": "kid",
 }
 TAMPERING = [
@@ -66,6 +69,7 @@ def flows(api: TestClient, client: TestClient, session: Session, engine: Engine)
     body: dict[str, Any] = issued.json()
     revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason="weighed wrongly")
     rotate_signing_key(session, get_settings())
+    record_checkpoint(session, get_settings(), event_id=verify_log(session).events)
     session.close()
     page = client.get(f"/verify/{body['number']}")
     assert page.status_code == 200

@@ -3,12 +3,16 @@ land in the audit log that admins read, and any edit of the log is shown as tamp
 
 from __future__ import annotations
 
+import base64
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, select, text
 from sqlalchemy.exc import DBAPIError
@@ -16,7 +20,7 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_VEHICLE
 
 from app.accounts.models import User
-from app.audit.models import AuditEvent
+from app.audit.models import AuditCheckpoint, AuditEvent
 from app.audit.recorder import acting_from_command_line
 from app.audit.service import verify_log
 from app.audit.startup import record_start
@@ -133,7 +137,7 @@ def test_the_command_says_an_untouched_log_is_intact(session: Session, database_
         check=False,
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "the audit log is intact: 1 events checked"
+    assert done.stdout.splitlines()[0] == "the audit log is intact: 1 events checked"
 
 
 def test_each_event_carries_the_client_address_and_the_request_id_of_the_access_log(
@@ -176,3 +180,84 @@ def test_the_settings_in_force_at_start_are_recorded_without_any_secret(
     assert details["settings"]["mfa"] == settings.mfa_mode()
     assert "metrics-token-that-is-secret" not in started.details
     assert verify_log(session).intact
+
+
+def audit_verify(database_url: str) -> subprocess.CompletedProcess[str]:
+    """`trikecert audit-verify`, as an operator runs it."""
+    return subprocess.run(
+        [BIN / "trikecert", "audit-verify"],
+        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+
+
+def independent_claims(token: str, jwks: dict[str, Any]) -> dict[str, Any]:
+    """A checkpoint token checked as a regulator would: Ed25519 over `header.payload`, by the key
+    its kid names."""
+    header_b64, payload_b64, signature_b64 = token.split(".")
+
+    def pad(part: str) -> bytes:
+        return base64.urlsafe_b64decode(part + "=" * (-len(part) % 4))
+
+    header = json.loads(pad(header_b64))
+    key = next(k for k in jwks["keys"] if k["kid"] == header["kid"])
+    Ed25519PublicKey.from_public_bytes(pad(key["x"])).verify(
+        pad(signature_b64), f"{header_b64}.{payload_b64}".encode()
+    )
+    claims: dict[str, Any] = json.loads(pad(payload_b64))
+    return claims
+
+
+def test_a_full_check_signs_a_checkpoint_that_is_published_and_verifies_by_the_published_key(
+    client: TestClient, session: Session, database_url: str
+) -> None:
+    assert client.get("/api/v1/audit/head").status_code == 404
+    create_station(session, name="Agbara weighbridge")
+    create_station(session, name="Ikeja weighbridge")
+    done = audit_verify(database_url)
+    assert done.returncode == 0, done.stderr
+    head = events(session)[1]  # the second station: the last event before the signing key was made
+    assert re.search(rf"^checkpoint \d+ signed at event {head.id}: {head.hash}$", done.stdout, re.M)
+    published = client.get("/api/v1/audit/head")
+    assert published.status_code == 200
+    body = published.json()
+    assert (body["event_id"], body["hash"]) == (head.id, head.hash)
+    claims = independent_claims(body["token"], client.get("/.well-known/trikecert-keys.json").json())
+    assert (claims["chain"], claims["event"], claims["hash"]) == ("trikecert-audit", head.id, head.hash)
+
+
+def test_the_page_checks_from_the_checkpoint_and_finds_the_newest_events_cut_off(
+    admin_web: TestClient, owner_engine: Engine, session: Session, database_url: str
+) -> None:
+    create_station(session, name="Agbara weighbridge")
+    assert audit_verify(database_url).returncode == 0
+    checkpoint = session.scalars(select(AuditCheckpoint)).one()
+    signed_at = checkpoint.event_id
+    page = admin_web.get("/admin/audit")
+    assert f"at event {signed_at}, holds" in page.text
+    with owner_engine.begin() as connection, immutability_lifted(connection):
+        connection.execute(text("DELETE FROM audit_event WHERE id >= :id"), {"id": signed_at})
+    # What is left is a chain that checks from the first event; the checkpoint shows what was cut.
+    page = admin_web.get("/admin/audit")
+    assert "The record was tampered with." in page.text
+    assert f"Event {signed_at} is missing: checkpoint {checkpoint.id} was signed at it" in page.text
+    done = audit_verify(database_url)
+    assert done.returncode == 1
+    assert (
+        f"event {signed_at} is missing: checkpoint {checkpoint.id} was signed at event {signed_at}"
+        in done.stdout
+    )
+
+
+def test_a_forged_checkpoint_is_refused_on_the_page(
+    admin_web: TestClient, owner_engine: Engine, session: Session, database_url: str
+) -> None:
+    create_station(session, name="Agbara weighbridge")
+    assert audit_verify(database_url).returncode == 0
+    with owner_engine.begin() as connection, immutability_lifted(connection):
+        connection.execute(text("UPDATE audit_checkpoint SET hash = :h"), {"h": "0" * 64})
+    checkpoint = session.scalars(select(AuditCheckpoint)).one()
+    page = admin_web.get("/admin/audit")
+    assert f"Checkpoint {checkpoint.id} is not as a published key signed it" in page.text

@@ -1,0 +1,61 @@
+"""The audit log's published head: the newest signed checkpoint, for a regulator to keep."""
+
+from __future__ import annotations
+
+from datetime import datetime
+
+from fastapi import APIRouter, Response
+from pydantic import BaseModel, ConfigDict, Field
+
+from app.audit.checkpoint import newest_checkpoint
+from app.errors import NotFound
+from app.web.deps import SessionDep
+
+router = APIRouter(tags=["audit"])
+
+
+class AuditHead(BaseModel):
+    """A signed statement that the audit chain was whole up to `event_id`, whose hash was `hash`."""
+
+    model_config = ConfigDict(
+        json_schema_extra={
+            "examples": [
+                {
+                    "checkpoint": 3,
+                    "event_id": 1520,
+                    "hash": "4090b91822b972a01cb44da338809ddd4724175b92b544b47068a5774fcfaace",
+                    "signed_at": "2026-12-01T23:30:00+00:00",
+                    "kid": "pnGtlMm-TqGbkOP9",
+                    "token": "eyJhbGciOiJFZDI1NTE5Iiwia2lkIjoicG5HdGxNbS1UcUdia09QOSJ9.eyJ...",
+                }
+            ]
+        }
+    )
+
+    checkpoint: int
+    event_id: int
+    hash: str = Field(description="SHA-256 of the event, hex, as the chain holds it")
+    signed_at: datetime
+    kid: str = Field(description="The key in /.well-known/trikecert-keys.json that signed `token`")
+    token: str = Field(description="JWS compact (Ed25519) of {chain, event, hash, at}")
+
+
+@router.get(
+    "/audit/head",
+    summary="The newest signed checkpoint of the audit log (public)",
+    responses={404: {"description": "No checkpoint has been signed yet"}},
+)
+def audit_head(session: SessionDep, response: Response) -> AuditHead:
+    """Keep a copy: a later head must extend this one, and the service cannot deny having signed it."""
+    checkpoint = newest_checkpoint(session)
+    if checkpoint is None:
+        raise NotFound("audit: no checkpoint has been signed yet", field="audit", rule="not_found")
+    response.headers["Cache-Control"] = "public, max-age=60"
+    return AuditHead(
+        checkpoint=checkpoint.id,
+        event_id=checkpoint.event_id,
+        hash=checkpoint.hash,
+        signed_at=checkpoint.created_at,
+        kid=checkpoint.kid,
+        token=checkpoint.token,
+    )
