@@ -10,6 +10,7 @@ from starlette.requests import Request
 from starlette.responses import HTMLResponse
 from starlette.templating import Jinja2Templates
 
+from app.accounts import second_factor
 from app.config import get_settings
 from app.stability import case_label
 from app.web import formatting
@@ -48,6 +49,8 @@ def render(
     page: dict[str, Any] = {
         "login": login,
         "user": login.user if login else None,
+        # Before the second factor, the pages behind it are not offered (they would only send back).
+        "navigation": login is not None and second_factor.passed(login, get_settings()),
         "csrf_token": login.csrf_token if login else "",
         "flash": getattr(request.state, "flash", None),
         "issuing_authority": get_settings().issuing_authority,
