@@ -64,8 +64,8 @@ def _conditions(session: Session, where: AuditFilter) -> list[ColumnElement[bool
     return found
 
 
-def _newest_first(session: Session, where: AuditFilter) -> Select[tuple[AuditEvent]]:
-    return select(AuditEvent).where(*_conditions(session, where)).order_by(AuditEvent.id.desc())
+def _newest_first(conditions: list[ColumnElement[bool]]) -> Select[AuditEvent]:
+    return select(AuditEvent).where(*conditions).order_by(AuditEvent.id.desc())
 
 
 def list_events(
@@ -74,21 +74,14 @@ def list_events(
     """A page of the events the filter picks, newest first, and how many it picks in all."""
     conditions = _conditions(session, where or AuditFilter())
     total = int(session.scalar(select(func.count()).select_from(AuditEvent).where(*conditions)) or 0)
-    query = (
-        select(AuditEvent)
-        .where(*conditions)
-        .order_by(AuditEvent.id.desc())
-        .offset((page - 1) * page_size)
-        .limit(page_size)
-    )
+    query = _newest_first(conditions).offset((page - 1) * page_size).limit(page_size)
     return session.scalars(query).all(), total
 
 
 def all_events(session: Session, where: AuditFilter) -> Iterator[AuditEvent]:
     """Every event the filter picks, newest first, read a thousand at a time."""
-    rows = session.execute(_newest_first(session, where).execution_options(yield_per=1000))
-    for (event,) in rows:
-        yield event
+    query = _newest_first(_conditions(session, where)).execution_options(yield_per=1000)
+    yield from session.scalars(query)
 
 
 def actions_on_record(session: Session) -> list[str]:

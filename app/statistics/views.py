@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from datetime import UTC, timedelta
 
 from fastapi import APIRouter
@@ -15,7 +16,7 @@ from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statis
 from app.web.deps import CurrentLogin, SessionDep
 from app.web.formatting import local_today, local_zone
 from app.web.forms import FormErrors, query_text, read_date
-from app.web.spreadsheet import csv_download
+from app.web.spreadsheet import Cell, csv_download
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -83,7 +84,7 @@ def statistics_csv(
     _values, stats, errors = _statistics(request, session, station)
     if errors:
         return Response("; ".join(errors.messages.values()), status_code=422, media_type="text/plain")
-    rows = (
+    rows: Iterator[list[Cell]] = (
         [day.day.isoformat(), day.counts.inspections, day.counts.compliant, day.counts.not_compliant]
         for day in stats.days
     )
