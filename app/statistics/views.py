@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import csv
-import io
+from collections.abc import Iterator
 from datetime import UTC, timedelta
 
 from fastapi import APIRouter
@@ -17,6 +16,7 @@ from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statis
 from app.web.deps import CurrentLogin, SessionDep
 from app.web.formatting import local_today, local_zone
 from app.web.forms import FormErrors, query_text, read_date
+from app.web.spreadsheet import Cell, csv_download
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -84,15 +84,9 @@ def statistics_csv(
     _values, stats, errors = _statistics(request, session, station)
     if errors:
         return Response("; ".join(errors.messages.values()), status_code=422, media_type="text/plain")
-    out = io.StringIO()
-    writer = csv.writer(out, lineterminator="\r\n")
-    writer.writerow(["date", "inspections", "compliant", "not_compliant"])
-    for day in stats.days:
-        counts = day.counts
-        writer.writerow([day.day.isoformat(), counts.inspections, counts.compliant, counts.not_compliant])
-    name = f"trikecert-statistics-{stats.period.first.isoformat()}-{stats.period.last.isoformat()}.csv"
-    return Response(
-        out.getvalue(),
-        media_type="text/csv; charset=utf-8",
-        headers={"Content-Disposition": f'attachment; filename="{name}"'},
+    rows: Iterator[list[Cell]] = (
+        [day.day.isoformat(), day.counts.inspections, day.counts.compliant, day.counts.not_compliant]
+        for day in stats.days
     )
+    name = f"trikecert-statistics-{stats.period.first.isoformat()}-{stats.period.last.isoformat()}.csv"
+    return csv_download(["date", "inspections", "compliant", "not_compliant"], rows, name)

@@ -110,6 +110,9 @@ def test_the_route_table_has_the_id_routes_this_test_is_meant_to_try() -> None:
     pages = {str(op): op.query_params for op in OPERATIONS}
     assert {"station", "page"} <= set(pages["GET /inspections"])
     assert "station" in pages["GET /statistics"]
+    audit_filters = {"actor", "actor_kind", "action", "record_type", "record_id", "from", "to"}
+    assert audit_filters | {"page"} <= set(pages["GET /admin/audit"])
+    assert audit_filters <= set(pages["GET /admin/audit.csv"])
 
 
 @dataclass

@@ -278,7 +278,14 @@ def test_every_visible_field_of_every_form_refuses_each_bad_text_beside_the_fiel
     forms = all_forms(site)
     actions = {form.action for _c, form in forms}
     # The walk found the forms a person fills in (a missing one here is a defect of the walk).
-    assert {"/login", "/vehicles/new", "/admin/stations/new", "/admin/users/new", "/inspections"} <= actions
+    assert {
+        "/login",
+        "/vehicles/new",
+        "/admin/stations/new",
+        "/admin/users/new",
+        "/inspections",
+        "/admin/audit",
+    } <= actions
     walked = 0
     for client, found in forms:
         for entry in [f for f in found.fields if f.kind in VISIBLE]:

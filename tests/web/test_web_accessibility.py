@@ -101,6 +101,8 @@ MAIN_PAGES: list[tuple[str, str, Callable[[Page], None] | None]] = [
     ("station", "/admin/stations", open_station),
     ("station-errors", "/admin/stations", submit_invalid_station_edit),
     ("settings", "/admin/settings", None),
+    ("audit", "/admin/audit?actor_kind=anonymous&action=sign_in.&from=2026-01-01", None),
+    ("audit-errors", "/admin/audit?action=sign_in&from=23/11/2026", None),
 ]
 
 
