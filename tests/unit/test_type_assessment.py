@@ -76,7 +76,10 @@ def study() -> TypeAssessment:
 
 
 def five(value: Fraction | Decimal) -> str:
-    return f"{Decimal(value.numerator) / Decimal(value.denominator) if isinstance(value, Fraction) else value:.5f}"
+    """A figure to the reference's 5 printed decimals."""
+    if isinstance(value, Fraction):
+        value = Decimal(value.numerator) / Decimal(value.denominator)
+    return f"{value:.5f}"
 
 
 @pytest.mark.parametrize(("occupants", "low", "mean", "high", "sd", "upper", "confident"), PRINTED_SPREAD)
