@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from decimal import Decimal
 from typing import Any
@@ -174,8 +174,13 @@ def create_type_assessment(
     rules: Rules,
     station_id: int | None = None,
     user_id: int | None = None,
+    on_stored: Callable[[Session, TypeAssessmentRecord], None] | None = None,
 ) -> TypeAssessmentRecord:
-    """Assess the model from its inspections and store inputs and results in one transaction."""
+    """Assess the model from its inspections and store inputs and results in one transaction.
+
+    `on_stored(session, record)` runs once the record has its id, before the commit (the page's
+    one-time form token is kept in the same transaction).
+    """
     inspections = inspections_for(session, request, station_id=station_id)
     try:
         result = assess_type([member(i, rules) for i in inspections])
@@ -184,6 +189,9 @@ def create_type_assessment(
     begin_write(session)
     record = _record(request, inspections, result, station_id=station_id, user_id=user_id)
     session.add(record)
+    session.flush()
+    if on_stored is not None:
+        on_stored(session, record)
     session.commit()
     return record
 
@@ -264,3 +272,26 @@ def latest_type_assessments(session: Session) -> dict[tuple[str, str], TypeAsses
         select(TypeAssessmentRecord).order_by(TypeAssessmentRecord.created_at, TypeAssessmentRecord.id)
     ).all()
     return {(r.make.strip().lower(), r.model.strip().lower()): r for r in records}
+
+
+@dataclass(frozen=True)
+class KnownModel:
+    """A make, model and model year on file, with how many of its vehicles have been inspected."""
+
+    make: str
+    model: str
+    model_year: int | None
+    vehicles_inspected: int
+
+
+def known_models(session: Session, *, limit: int = 200) -> list[KnownModel]:
+    """The models whose vehicles have inspections, most inspected vehicles first."""
+    inspected = func.count(func.distinct(Inspection.vehicle_id))
+    rows = session.execute(
+        select(Vehicle.make, Vehicle.model, Vehicle.model_year, inspected)
+        .join(Inspection, Inspection.vehicle_id == Vehicle.id)
+        .group_by(Vehicle.make, Vehicle.model, Vehicle.model_year)
+        .order_by(inspected.desc(), Vehicle.make, Vehicle.model, Vehicle.model_year)
+        .limit(limit)
+    ).all()
+    return [KnownModel(make, model, year, count) for make, model, year, count in rows]
