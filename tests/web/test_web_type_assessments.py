@@ -94,3 +94,22 @@ def test_a_bad_model_year_is_refused_beside_the_field(web: TestClient) -> None:
 def test_assess_a_model_is_in_the_navigation(web: TestClient) -> None:
     assert '<a href="/type-assessments/new"' in web.get("/").text
     assert web.get("/type-assessments/999").status_code == 404
+
+
+def test_statistics_count_each_model_and_link_its_latest_type_assessment(
+    web: TestClient, session: Session
+) -> None:
+    weigh_study_fleet(session)
+    weigh_study_fleet(session, model="Maxima", suffix=" M")
+    before = cells(web.get("/statistics").text, "per-model")
+    assert [row[:4] for row in before] == [
+        ["Bajaj Maxima", "3", "0", "0 %"],
+        ["Bajaj RE", "3", "0", "0 %"],
+    ]
+    assert "None yet: assess the model" in before[1][4]
+    done = post_form(web, PICKED, "/type-assessments", {})
+    assert done.status_code == 303
+    page = web.get("/statistics").text
+    number = done.headers["location"].rsplit("/", 1)[-1]
+    assert f'<a href="/type-assessments/{number}">No. {number}</a>' in page
+    assert cells(page, "per-model")[1][4].startswith(f"No. {number}: NC")
