@@ -86,6 +86,7 @@ class Plot:
     low: float
     high: float
     slots: int
+    step: float = STEP  # between grid lines
 
     @property
     def width(self) -> float:
@@ -126,9 +127,9 @@ def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> l
         _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
         _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", size=17, cls="chart__region"),
     ]
-    ticks = round((plot.high - plot.low) / STEP)
+    ticks = round((plot.high - plot.low) / plot.step)
     for i in range(ticks + 1):
-        value = plot.low + i * STEP
+        value = plot.low + i * plot.step
         y = plot.y_of(value)
         parts.append(f'<line x1="{LEFT}" x2="{LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
         parts.append(_text(LEFT - 8, y + 5, f"{value:.2f}", anchor="end", size=16))
