@@ -96,7 +96,7 @@ class TypeAssessmentOut(BaseModel):
                             "inspection_id": 103,
                             "cases": [
                                 {"occupants": 0, "lsf": 0.69722, "compliant": False},
-                                {"occupants": 1, "lsf": 0.65855, "compliant": True},
+                                {"occupants": 1, "lsf": 0.65854, "compliant": True},
                             ],
                         }
                     ],
