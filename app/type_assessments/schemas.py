@@ -7,9 +7,9 @@ from typing import Annotated
 from pydantic import BaseModel, ConfigDict, Field
 
 from app.api.fields import text
+from app.api.limits import MAX_LIST_ITEMS
 from app.ids import MAX_ID
 from app.numbers import WHOLE_NUMBER
-from app.type_assessments.service import MAX_VEHICLES
 
 InspectionRef = Annotated[int, Field(ge=1, le=MAX_ID), WHOLE_NUMBER]
 
@@ -35,7 +35,7 @@ class TypeAssessmentIn(BaseModel):
             list[InspectionRef],
             Field(
                 min_length=2,
-                max_length=MAX_VEHICLES,
+                max_length=MAX_LIST_ITEMS,  # more vehicles: leave the ids out (the latest of each)
                 description="The inspections to use, one per vehicle (default: each vehicle's latest)",
             ),
         ]
