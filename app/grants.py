@@ -41,6 +41,9 @@ PRIVILEGES: dict[str, str] = {
     "recovery_code": DISPOSABLE,  # a new enrolment or an admin's reset replaces them
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
     "form_submission": APPEND_ONLY,  # a used form token
+    "type_assessment": APPEND_ONLY,  # a make and model assessed: kept as computed
+    "type_assessment_inspection": APPEND_ONLY,
+    "type_assessment_case": APPEND_ONLY,
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

@@ -19,6 +19,9 @@ _MAX_DIGITS = len(str(MAX_ID))
 InspectionId = Annotated[
     int, Path(ge=1, le=MAX_ID, description="The inspection's id, as answered when it was stored.")
 ]
+TypeAssessmentId = Annotated[
+    int, Path(ge=1, le=MAX_ID, description="The type assessment's id, as answered when it was stored.")
+]
 StationId = Annotated[int, Path(ge=1, le=MAX_ID, description="The station's id.")]
 UserId = Annotated[int, Path(ge=1, le=MAX_ID, description="The account's id.")]
 PageNumber = Annotated[int, Query(ge=1, le=MAX_ID, description="Which page of the list, from 1.")]

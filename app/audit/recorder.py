@@ -26,6 +26,7 @@ from app.audit.models import AuditEvent
 from app.certificates.models import Certificate, CertificateRevocation, SigningKey
 from app.db import REQUEST_ORIGIN_KEY, utcnow
 from app.stations.models import Station
+from app.type_assessments.models import TypeAssessmentRecord
 from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain
@@ -88,6 +89,9 @@ AUDITED: dict[type[Any], Audited] = {
     Certificate: Audited("certificate", ("kind", "registration_number", "inspection_id"), lambda r: r.number),
     CertificateRevocation: Audited("certificate", ("reason",), lambda r: r.certificate.number),
     LoginAttempt: Audited("user", ("email", "client_ip"), lambda r: r.user_id),
+    TypeAssessmentRecord: Audited(
+        "type_assessment", ("make", "model", "model_year", "vehicle_count", "compliant"), lambda r: r.id
+    ),
 }
 # A change of these columns names the event; other changes are "<type>.changed".
 NAMED_CHANGES = {"key_hash": "key_rotated", "password_hash": "password_changed", "retired_at": "retired"}

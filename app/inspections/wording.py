@@ -130,3 +130,16 @@ _QR_REASONS = {
 def qr_reason(reason: str) -> str:
     """Why a QR code is not genuine, in words without key ids or codes."""
     return _QR_REASONS.get(reason, "its signature does not check out")
+
+
+def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
+    """What a type assessment allows every vehicle of the model, by its confident verdict."""
+    if compliant and max_compliant_occupants >= 1:
+        if max_compliant_occupants == 1:
+            return "The model is certified for the driver alone: no passengers"
+        return f"The model is certified for {occupancy_limit(max_compliant_occupants)}"
+    if max_compliant_occupants <= 0:
+        return "The model is not shown stable even with the driver alone"
+    if max_compliant_occupants == 1:
+        return "Vehicles of this model must not carry passengers"
+    return f"Vehicles of this model may carry {occupancy_limit(max_compliant_occupants)}, no more"

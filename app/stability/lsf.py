@@ -54,7 +54,11 @@ def assess(data: AssessmentInput, rules: Rules | None = None) -> Assessment:
     rules = rules or Rules()
     check_geometry(data, rules)
     check_measured_occupants(data)
-    base = average_readings(data.readings, rules)
+    return assess_averaged(average_readings(data.readings, rules), data, rules)
+
+
+def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules) -> Assessment:
+    """The loading cases from readings already averaged (a type's mean readings); `data` gives the rest."""
     mass = data.occupant_mass_kg if data.occupant_mass_kg is not None else rules.occupant_mass_kg
     wheelbase = Fraction(data.wheelbase_m)
 

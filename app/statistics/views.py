@@ -12,6 +12,7 @@ from starlette.responses import Response
 
 from app.ids import IdChoice, parse_id
 from app.stations.models import Station
+from app.statistics.by_model import model_counts
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
 from app.web.deps import CurrentLogin, SessionDep
 from app.web.formatting import local_today, local_zone
@@ -60,6 +61,8 @@ def statistics_page(
     """Totals, inspections per day and per station, and certificates, for a period and a station."""
     values, stats, errors = _statistics(request, session, station)
     stations = session.scalars(select(Station).order_by(Station.name)).all()
+    zone = local_zone() or UTC
+    per_model = model_counts(session, period=stats.period, zone=zone, station_id=parse_id(values["station"]))
     return render(
         request,
         "statistics/show.html",
@@ -71,6 +74,7 @@ def statistics_page(
             "stations": stations,
             "station_name": next((s.name for s in stations if str(s.id) == values["station"]), None),
             "csv_query": request.url.query,
+            "per_model": per_model,
         },
         status_code=422 if errors else 200,
     )

@@ -52,7 +52,8 @@ def _text(x: float, y: float, content: str, *, anchor: str = "middle", size: int
     )
 
 
-def _marker(x: float, y: float, compliant: bool) -> str:
+def marker(x: float, y: float, compliant: bool) -> str:
+    """A case's marker: a green circle when compliant, a red cross when not."""
     if compliant:
         return (
             f'<circle class="chart__c" cx="{x:.1f}" cy="{y:.1f}" r="7" '
@@ -78,32 +79,58 @@ def describe(points: Sequence[ChartPoint]) -> str:
     )
 
 
-def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> Markup:
-    """The whole SVG element, safe to place in a page."""
-    low, high = y_range([p.lsf for p in points])
-    plot_w, plot_h = WIDTH - LEFT - RIGHT, HEIGHT - TOP - BOTTOM
+@dataclass(frozen=True)
+class Plot:
+    """A chart's scales: LSF from `low` to `high` upwards, and `slots` loading cases across."""
 
-    def y_of(value: float) -> float:
-        return TOP + (high - value) / (high - low) * plot_h
+    low: float
+    high: float
+    slots: int
+    step: float = STEP  # between grid lines
 
-    def x_of(index: int) -> float:
-        return LEFT + (index + 0.5) * plot_w / max(len(points), 1)
+    @property
+    def width(self) -> float:
+        """The plot area's width."""
+        return WIDTH - LEFT - RIGHT
 
-    limit_y = y_of(LIMIT)
+    @property
+    def height(self) -> float:
+        """The plot area's height."""
+        return HEIGHT - TOP - BOTTOM
+
+    def y_of(self, value: float) -> float:
+        """The y coordinate of an LSF."""
+        return TOP + (self.high - value) / (self.high - self.low) * self.height
+
+    def x_of(self, index: float) -> float:
+        """The x coordinate of a loading case's slot centre (fractions move within the slots)."""
+        return LEFT + (index + 0.5) * self.width / max(self.slots, 1)
+
+
+def plot_for(values: Sequence[float], slots: int) -> Plot:
+    """The scales that hold every value, in `slots` loading cases."""
+    low, high = y_range(values)
+    return Plot(low, high, slots)
+
+
+def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> list[str]:
+    """The opening of the SVG: title and text alternative, the unstable region, grid, 2/3 line, border."""
+    limit_y = plot.y_of(LIMIT)
+    plot_w, plot_h = plot.width, plot.height
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
         f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">',
-        f'<title id="{chart_id}-title">{escape(TITLE)}</title>',
-        f'<desc id="{chart_id}-desc">{escape(describe(points))}</desc>',
+        f'<title id="{chart_id}-title">{escape(title)}</title>',
+        f'<desc id="{chart_id}-desc">{escape(description)}</desc>',
         f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
         'fill="#fbe3df"/>',
         _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
         _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", size=17, cls="chart__region"),
     ]
-    ticks = round((high - low) / STEP)
+    ticks = round((plot.high - plot.low) / plot.step)
     for i in range(ticks + 1):
-        value = low + i * STEP
-        y = y_of(value)
+        value = plot.low + i * plot.step
+        y = plot.y_of(value)
         parts.append(f'<line x1="{LEFT}" x2="{LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
         parts.append(_text(LEFT - 8, y + 5, f"{value:.2f}", anchor="end", size=16))
     parts.append(
@@ -116,23 +143,53 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
     parts.append(
         f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="none" stroke="#505a5f"/>'
     )
+    return parts
+
+
+def case_axis_label(plot: Plot, index: int, label: str) -> str:
+    """A loading case's label under the x axis."""
+    return _text(plot.x_of(index), TOP + plot.height + 24, label, size=17)
+
+
+def chart_close(plot: Plot) -> list[str]:
+    """The axis titles and the end of the SVG."""
+    middle = TOP + plot.height / 2
+    return [
+        _text(LEFT + plot.width / 2, HEIGHT - 8, "Loading case (occupants)", size=17),
+        f'<text x="16" y="{middle:.1f}" text-anchor="middle" font-size="17" '
+        f'transform="rotate(-90 16 {middle:.1f})">LSF</text>',
+        "</svg>",
+    ]
+
+
+def polyline(
+    plot: Plot, values: Sequence[float], *, stroke: str, width: float, dash: str = "", cls: str = ""
+) -> str:
+    """A line through one value per loading case."""
+    points = " ".join(f"{plot.x_of(i):.1f},{plot.y_of(v):.1f}" for i, v in enumerate(values))
+    dash_attr = f' stroke-dasharray="{dash}"' if dash else ""
+    cls_attr = f' class="{cls}"' if cls else ""
+    return (
+        f'<polyline{cls_attr} points="{points}" fill="none" stroke="{stroke}" '
+        f'stroke-width="{width}"{dash_attr}/>'
+    )
+
+
+def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> Markup:
+    """The whole SVG element, safe to place in a page."""
+    plot = plot_for([p.lsf for p in points], len(points))
+    parts = chart_frame(plot, chart_id=chart_id, title=TITLE, description=describe(points))
     if len(points) > 1:
-        line = " ".join(f"{x_of(i):.1f},{y_of(p.lsf):.1f}" for i, p in enumerate(points))
-        parts.append(f'<polyline points="{line}" fill="none" stroke="#505a5f" stroke-width="1.5"/>')
+        parts.append(polyline(plot, [p.lsf for p in points], stroke="#505a5f", width=1.5))
     for i, point in enumerate(points):
-        x, y = x_of(i), y_of(point.lsf)
+        x, y = plot.x_of(i), plot.y_of(point.lsf)
         parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
-        parts.append(_marker(x, y, point.compliant))
+        parts.append(marker(x, y, point.compliant))
         # C points lie below the line and NC points above it: label each away from the line.
         label_y = y + 27 if point.compliant else y - 14
         parts.append(_text(x, label_y, "C" if point.compliant else "NC", size=17, cls="chart__verdict"))
         parts.append("</g>")
-        parts.append(_text(x, TOP + plot_h + 24, point.short_label, size=17))
-    parts.append(_text(LEFT + plot_w / 2, HEIGHT - 8, "Loading case (occupants)", size=17))
-    parts.append(
-        f'<text x="16" y="{TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="17" '
-        f'transform="rotate(-90 16 {TOP + plot_h / 2:.1f})">LSF</text>'
-    )
-    parts.append("</svg>")
+        parts.append(case_axis_label(plot, i, point.short_label))
+    parts += chart_close(plot)
     # Every piece of text above went through escape(); the rest is markup built here from numbers.
     return Markup("".join(parts))  # noqa: S704

@@ -38,6 +38,11 @@ def ratio(value: Decimal | Fraction | float) -> str:
     return fixed(value, 3)
 
 
+def spread_ratio(value: Decimal | Fraction | float) -> str:
+    """A type assessment's LSF statistic (min, mean, max, s, bound), to 5 decimals: 0.70375."""
+    return fixed(value, 5)
+
+
 def signed(value: Decimal | Fraction | float) -> str:
     """A variance with its sign, to 3 decimals: +0.009, -0.030."""
     text = fixed(value, 3)

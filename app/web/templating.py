@@ -28,6 +28,7 @@ _env = jinja2.Environment(
 _env.filters.update(
     kg=formatting.kg,
     ratio=formatting.ratio,
+    spread_ratio=formatting.spread_ratio,
     signed=formatting.signed,
     local_time=formatting.local_time,
     load_kg=formatting.load_kg,

@@ -2,7 +2,8 @@
 
 Every operation is exercised with schema-valid (positive) and schema-violating (negative) requests
 in the examples, coverage and fuzzing phases, signed with a real station key, with the study's
-vehicle and one inspection of it on file so that submissions and reads can succeed. Every check
+vehicle and one inspection of it on file (and a second vehicle of its model, so that a type
+assessment can succeed) so that submissions and reads can succeed. Every check
 schemathesis registers runs (not_a_server_error, status_code_conformance, content_type_conformance,
 response_schema_conformance, response_headers_conformance, negative_data_rejection,
 missing_required_header, unsupported_method, allow_header_conformance, ignored_auth, ...), and a
@@ -44,18 +45,20 @@ from schemathesis.core.parameters import ParameterLocation
 from schemathesis.generation import GenerationMode
 from schemathesis.generation.meta import TestPhase
 from schemathesis.specs.openapi.checks import negative_data_rejection, positive_data_acceptance
-from sqlalchemy import Engine
+from sqlalchemy import Engine, select
 from sqlalchemy.orm import Session
 from study_data import STUDY_VEHICLE
 
 from app import config
 from app.certificates.guard import immutability_lifted
 from app.db import Base, get_sessionmaker
+from app.inspections.models import Inspection
 from app.main import create_app
 from app.stability import Rules
 from app.stations.models import Station
 from app.stations.scale import ScaleRules
 from app.stations.service import hash_key, new_key
+from app.vehicles.models import Vehicle
 
 STUDY_INSPECTION: dict[str, Any] = {
     "registration_number": "bdg-252qh",
@@ -82,8 +85,13 @@ CONFIG = schemathesis.Config.from_dict(
 schema = schemathesis.openapi.from_asgi("/openapi.json", create_app(), config=CONFIG)
 
 
-# The inspection the `on_file` fixture stored for the running test.
-ON_FILE: dict[str, int] = {"inspection_id": 1}
+# The inspection the `on_file` fixture stored for the running test, and the second vehicle's.
+ON_FILE: dict[str, int] = {"inspection_id": 1, "second_inspection_id": 2}
+SECOND_VEHICLE = {**STUDY_VEHICLE, "registration_number": "AGL 7180"}
+SECOND_INSPECTION: dict[str, Any] = {
+    "registration_number": "AGL 7180",
+    "readings": {"front_kg": 110, "left_rear_kg": 116, "right_rear_kg": 133, "overall_kg": 360},
+}
 
 
 def _aim_at_records_on_file(case: schemathesis.Case[Any], choice: int) -> None:
@@ -100,6 +108,13 @@ def _aim_at_records_on_file(case: schemathesis.Case[Any], choice: int) -> None:
         case.path_parameters = {"registration_number": registration if choice == 1 else "bdg-252qh"}
     elif operation == "GET /api/v1/inspections/{inspection_id}":
         case.path_parameters = {"inspection_id": ON_FILE["inspection_id"]}
+    elif operation == "POST /api/v1/type-assessments" and isinstance(case.body, dict):
+        body = {**case.body, "make": STUDY_VEHICLE["make"], "model": STUDY_VEHICLE["model"]}
+        body.pop("model_year", None)
+        body.pop("inspection_ids", None)
+        if choice == 2:  # the two inspections on file, chosen
+            body["inspection_ids"] = [ON_FILE["inspection_id"], ON_FILE["second_inspection_id"]]
+        case.body = body
     elif operation == "GET /api/v1/inspections":
         case.query = {**case.query, "registration_number": registration if choice == 1 else "bdg-252qh"}
 
@@ -172,7 +187,9 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     - a measured case against the number of seats (range on measured_cases[i].occupants,
       recomputed here) or measured twice (duplicate);
     - a loading case that would lift the front or rear wheels (the study's moment arithmetic over
-      readings, seats, masses and wheelbase together).
+      readings, seats, masses and wheelbase together);
+    - a type assessment's model against the records on file: fewer than two vehicles, an inspection
+      of another model or of a vehicle named twice, different seat layouts (checked in the database).
     """
     field, rule = problem.get("field", ""), problem.get("rule", "")
     if rule == "sum_tolerance":
@@ -188,7 +205,54 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     if rule == "spread":  # repeated readings of one wheel that disagree: the scale had not settled
         values = [_decimal(v) for v in _at(body, field)]
         return max(values) - min(values) > Fraction(SCALE.max_spread_kg)
+    if rule in TYPE_RULES and "make" in body and "model" in body:
+        return _type_refusal_explained(body, field, rule)
     return rule in {"front_wheel_lift", "rear_wheel_lift"}
+
+
+# A type assessment's refusals relate the request to the records on file (the run's station's).
+TYPE_RULES = {"too_few", "same_model", "one_per_vehicle", "same_layout", "measured_cases"}
+
+
+def _of_model(vehicle: Vehicle, body: dict[str, Any]) -> bool:
+    year = body.get("model_year")
+    return (
+        vehicle.make.strip().lower() == body["make"].strip().lower()
+        and vehicle.model.strip().lower() == body["model"].strip().lower()
+        and (year is None or vehicle.model_year == year)
+    )
+
+
+def _type_refusal_explained(body: dict[str, Any], field: str, rule: str) -> bool:
+    """Do the stored records really break the rule the type assessment was refused for?"""
+    ids = body.get("inspection_ids")
+    with get_sessionmaker()() as session:
+        if ids is None:
+            inspections = [
+                i
+                for i in session.scalars(select(Inspection).order_by(Inspection.id))
+                if _of_model(i.vehicle, body)
+            ]
+            latest = {i.vehicle_id: i for i in inspections}  # the last of each vehicle, by id
+            chosen = list(latest.values())
+        else:
+            chosen = [i for i in (session.get(Inspection, n) for n in ids) if i is not None]
+        if rule == "too_few":
+            return len(chosen) < 2
+        index = (
+            int(field.removeprefix("inspection_ids[").removesuffix("]")) if field != "inspection_ids" else 0
+        )
+        if rule == "same_model":
+            return not _of_model(chosen[index].vehicle, body)
+        if rule == "one_per_vehicle":
+            return chosen[index].vehicle_id in {i.vehicle_id for i in chosen[:index]}
+        if rule == "measured_cases":
+            return any(r.case_occupants > 0 for i in chosen for r in i.readings)
+        layouts = {
+            (json.dumps(i.occupant_config, sort_keys=True), str(i.wheelbase_m), str(i.occupant_mass_kg))
+            for i in chosen
+        }
+        return len(layouts) > 1
 
 
 # Every Idempotency-Key this run sent, with the requests it went with: a 422 for reusing a key is
@@ -268,7 +332,7 @@ def no_rate_limit(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
 
 
 def put_on_file(client: TestClient, session: Session) -> None:
-    """The run's station key, the study's vehicle and one inspection of it on file."""
+    """The run's station key, the study's vehicle and one inspection of it, and a second of its model."""
     session.add(Station(name="Schemathesis", key_hash=hash_key(STATION_KEY), key_prefix=STATION_KEY[:10]))
     session.commit()
     client.headers["Authorization"] = f"Bearer {STATION_KEY}"
@@ -277,6 +341,10 @@ def put_on_file(client: TestClient, session: Session) -> None:
     response = client.post("/api/v1/inspections", json=STUDY_INSPECTION)
     assert response.status_code == 201, response.text
     ON_FILE["inspection_id"] = response.json()["id"]
+    assert client.post("/api/v1/vehicles", json=SECOND_VEHICLE).status_code == 201
+    response = client.post("/api/v1/inspections", json=SECOND_INSPECTION)
+    assert response.status_code == 201, response.text
+    ON_FILE["second_inspection_id"] = response.json()["id"]
 
 
 @pytest.fixture

@@ -73,6 +73,9 @@ def test_the_walk_finds_the_strings_of_the_api() -> None:
     assert "GET /api/v1/vehicles/{registration_number} path registration_number" in PARAMETER_CASES
 
 
+TYPE_ASSESSMENTS = "/api/v1/type-assessments"
+
+
 def counts(engine: Engine) -> dict[str, int]:
     """Rows per table, except the station rate limit's window (every request counts in it)."""
     with engine.connect() as connection:
@@ -118,7 +121,11 @@ def test_good_text_in_every_string_of_a_body_is_accepted_and_stored_composed(
     base, good = _bodies(schema, leaf)
     assert good, f"no good text known for {case}"
     response = send_json(api, method, url, place(base, schema, leaf, good))
-    assert response.status_code == 201, response.text
+    if url == TYPE_ASSESSMENTS:  # the text passes; a model nobody has weighed has no vehicles to assess
+        assert response.status_code == 422, response.text
+        assert response.json()["errors"][0]["rule"] == "too_few"
+    else:
+        assert response.status_code == 201, response.text
     if good == DECOMPOSED:  # as stored (a chassis number is kept in upper case)
         composed = unicodedata.normalize("NFC", good)
         assert composed in response.text or composed.upper() in response.text

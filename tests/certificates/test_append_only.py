@@ -13,7 +13,7 @@ from fastapi.testclient import TestClient
 from sqlalchemy import Engine, delete, select, text, update
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
-from study_data import STUDY_READINGS, STUDY_VEHICLE
+from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
 
 from app.audit.checkpoint import record_checkpoint
 from app.audit.service import verify_log
@@ -36,6 +36,9 @@ PROTECTED = {
     "certificate_audit": ("actor", "'someone else'"),
     "audit_event": ("actor_label", "'someone else'"),
     "audit_checkpoint": ("hash", "'0'"),
+    "type_assessment": ("compliant", "true"),
+    "type_assessment_inspection": ("inspection_id", "1"),
+    "type_assessment_case": ("upper_95_lsf", "0.5"),
 }
 
 
@@ -48,6 +51,15 @@ def history(api: TestClient, session: Session) -> dict[str, Any]:
     assert submitted.status_code == 201, submitted.text
     issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
     assert issued.status_code == 201, issued.text
+    second = {**STUDY_VEHICLE, "registration_number": "AGL 7180"}
+    assert api.post("/api/v1/vehicles", json=second).status_code == 201
+    weighed = api.post(
+        "/api/v1/inspections",
+        json={"registration_number": "AGL 7180", "readings": STUDY_TYPE_READINGS["AGL 7180"]},
+    )
+    assert weighed.status_code == 201, weighed.text
+    typed = api.post("/api/v1/type-assessments", json={"make": "Bajaj", "model": "RE"})
+    assert typed.status_code == 201, typed.text
     revoke_certificate(session, number=issued.json()["number"], actor=Actor.of_cli(), reason="test")
     rotate_signing_key(session, get_settings())
     record_checkpoint(session, get_settings(), event_id=verify_log(session).events)

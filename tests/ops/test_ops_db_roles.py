@@ -17,7 +17,7 @@ from sqlalchemy import Connection, Engine, create_engine, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
-from study_data import STUDY_READINGS, STUDY_VEHICLE
+from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
 
 from app.audit.checkpoint import record_checkpoint
 from app.audit.service import verify_log
@@ -39,6 +39,9 @@ PROTECTED = {
     "audit_event": "action",
     "audit_checkpoint": "hash",
     "signing_key": "kid",
+    "type_assessment": "compliant",
+    "type_assessment_inspection": "inspection_id",
+    "type_assessment_case": "upper_95_lsf",
 }
 TAMPERING = [
     "UPDATE {table} SET {column} = {column}",
@@ -66,6 +69,15 @@ def flows(api: TestClient, client: TestClient, session: Session, engine: Engine)
     assert submitted.status_code == 201, submitted.text
     issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
     assert issued.status_code == 201, issued.text
+    second = {**STUDY_VEHICLE, "registration_number": "AGL 7180"}
+    assert api.post("/api/v1/vehicles", json=second).status_code == 201
+    weighed = api.post(
+        "/api/v1/inspections",
+        json={"registration_number": "AGL 7180", "readings": STUDY_TYPE_READINGS["AGL 7180"]},
+    )
+    assert weighed.status_code == 201, weighed.text
+    typed = api.post("/api/v1/type-assessments", json={"make": "Bajaj", "model": "RE"})
+    assert typed.status_code == 201, typed.text
     body: dict[str, Any] = issued.json()
     revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason="weighed wrongly")
     rotate_signing_key(session, get_settings())

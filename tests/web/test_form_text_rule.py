@@ -26,7 +26,7 @@ from app.db import Base
 from app.main import create_app
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
-from web.webtools import ADMIN_EMAIL, PASSWORD, STUDY_READINGS, hidden, post_form, sign_in
+from web.webtools import ADMIN_EMAIL, PASSWORD, STUDY_READINGS, hidden, post_form, sign_in, weigh_study_fleet
 
 # One character of each class the rule refuses (a surrogate cannot be written in UTF-8: its would-be
 # bytes are sent, which the server reads as U+FFFD, and that is refused too), and text too long.
@@ -55,6 +55,7 @@ VISIBLE = {
 }
 SKIPPED_ACTIONS = {"/logout"}  # signing out is not a form with anything to refuse
 SERIAL = count(1)
+TYPE_PAGE = "/type-assessments/new?make=Bajaj&model=RE+4S"
 
 
 @dataclass
@@ -198,6 +199,9 @@ def site(client: TestClient, session: Session, engine: Engine, study_vehicle: Ve
     assert station.status_code == 200, station.text
     station_id = re.search(r'href="/admin/stations/(\d+)"', client.get("/admin/stations").text)
     assert station_id is not None
+    weigh_study_fleet(session, model="RE 4S", suffix=" X")
+    typed = post_form(client, TYPE_PAGE, "/type-assessments", {})
+    assert typed.status_code == 303, typed.text
     with TestClient(create_app(), raise_server_exceptions=False) as visitor:
         yield Site(
             client,
@@ -208,6 +212,7 @@ def site(client: TestClient, session: Session, engine: Engine, study_vehicle: Ve
                 "number": number,
                 "station_id": station_id.group(1),
                 "user_id": str(other.id),
+                "type_assessment_id": typed.headers["location"].rsplit("/", 1)[-1],
             },
         )
 

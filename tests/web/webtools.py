@@ -14,6 +14,13 @@ import pyotp
 from fastapi.testclient import TestClient
 from httpx import Response
 from playwright.sync_api import Page
+from sqlalchemy.orm import Session
+from study_data import STUDY_TYPE_READINGS
+
+from app.inspections.service import InspectionRequest, record_inspection
+from app.stability import Rules, WheelReadings
+from app.stability.model import WHEELS
+from app.vehicles.service import register_vehicle
 
 PASSWORD = "correct horse battery"
 OFFICER_EMAIL = "officer@example.org"
@@ -121,3 +128,27 @@ def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
         {"id": v["id"], "impact": v["impact"], "help": v["help"], "nodes": [n["target"] for n in v["nodes"]]}
         for v in result["violations"]
     ]
+
+
+def weigh_study_fleet(session: Session, *, model: str = "RE", suffix: str = "") -> dict[str, int]:
+    """The reference's section 7: three vehicles of the study's model weighed with its readings.
+
+    Returns registration -> inspection id (each recorded as an officer's inspection); `suffix` is
+    added to every registration number.
+    """
+    found = {}
+    for study_registration, readings in STUDY_TYPE_READINGS.items():
+        registration = study_registration + suffix
+        register_vehicle(
+            session,
+            registration_number=registration,
+            make="Bajaj",
+            model=model,
+            model_year=2012,
+            wheelbase_m=Decimal("2.000"),
+            seats=STUDY_SEATS,
+        )
+        wheels = WheelReadings(*((Decimal(readings[w]),) for w in WHEELS))
+        request = InspectionRequest(registration_number=registration, readings=wheels)
+        found[registration] = record_inspection(session, request=request, rules=Rules()).id
+    return found
