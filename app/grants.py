@@ -40,6 +40,9 @@ PRIVILEGES: dict[str, str] = {
     "recovery_code": DISPOSABLE,  # a new enrolment or an admin's reset replaces them
     "idempotency_key": DISPOSABLE,  # a failed claim is released; old keys are pruned
     "form_submission": APPEND_ONLY,  # a used form token
+    # Derived counts of closed days (app/statistics/models.py), counted again when stale: not records.
+    "statistics_day": DISPOSABLE,
+    "statistics_day_station": DISPOSABLE,
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")
