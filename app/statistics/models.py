@@ -23,7 +23,8 @@ NO_STATION = 0
 
 
 class StatisticsDay(Base):
-    """One closed local day of a zone that has been counted, its UTC bounds and its certificates."""
+    """One closed local day of a zone that has been counted: its UTC bounds, its inspections at every
+    station together, and its certificates."""
 
     __tablename__ = "statistics_day"
 
@@ -31,6 +32,8 @@ class StatisticsDay(Base):
     day: Mapped[date] = mapped_column(Date, primary_key=True)
     starts_at: Mapped[datetime] = mapped_column(UTCDateTime())
     ends_at: Mapped[datetime] = mapped_column(UTCDateTime())
+    inspections: Mapped[int] = mapped_column(Integer, default=0)
+    compliant: Mapped[int] = mapped_column(Integer, default=0)
     certificates_issued: Mapped[int] = mapped_column(Integer, default=0)
     refusals_issued: Mapped[int] = mapped_column(Integer, default=0)
     certificates_revoked: Mapped[int] = mapped_column(Integer, default=0)

@@ -199,16 +199,22 @@ def _add_stored(
 ) -> None:
     """The closed days' stored counts (counted from the records first where missing)."""
     first, last = closed.first, closed.last
-    stored.count_closed_days(session, zone=zone, first=first, last=last)
-    for day, inspections, compliant in stored.stored_daily(
-        session, zone=zone, first=first, last=last, station_id=station_id
-    ):
-        tally.add_day(day, Counts(inspections, compliant))
+    days = stored.closed_days(session, zone=zone, first=first, last=last)
+    if station_id is None:
+        for row in days:
+            tally.add_day(row.day, Counts(row.inspections, row.compliant))
+    else:
+        for day, inspections, compliant in stored.stored_daily(
+            session, zone=zone, first=first, last=last, station_id=station_id
+        ):
+            tally.add_day(day, Counts(inspections, compliant))
     for sid, name, inspections, compliant in stored.stored_stations(
         session, zone=zone, first=first, last=last, station_id=station_id
     ):
         tally.add_station(sid, name, Counts(inspections, compliant))
-    tally.add_certificates(stored.stored_certificates(session, zone=zone, first=first, last=last))
+    issued = sum(row.certificates_issued for row in days)
+    refusals = sum(row.refusals_issued for row in days)
+    tally.add_certificates((issued, refusals, sum(row.certificates_revoked for row in days)))
 
 
 def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:

@@ -17,7 +17,7 @@ from collections.abc import Iterable
 from datetime import UTC, date, datetime, time, timedelta, tzinfo
 from typing import Any, cast
 
-from sqlalchemy import Table, and_, case, delete, func, select, update
+from sqlalchemy import Row, Table, and_, case, delete, func, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
@@ -58,21 +58,39 @@ def _insert(session: Session) -> Any:
     return postgresql.insert if session.get_bind().dialect.name == "postgresql" else sqlite.insert
 
 
+def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
+    return list(
+        session.execute(
+            select(_DAY)
+            .where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last)
+            .order_by(_DAY.c.day)
+        )
+    )
+
+
 def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> int:
     """Store the counts of the closed days `first` to `last` not stored yet; how many were counted.
 
     The caller passes closed days only (see last_closed_day). Commits when it stored anything.
     """
+    return _count_missing(session, zone, first, last, _read_days(session, zone_name(zone), first, last))
+
+
+def closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> list[Row[Any]]:
+    """The stored rows (a StatisticsDay's columns) of the closed days `first` to `last`, oldest first;
+    those not stored yet are counted first."""
+    name = zone_name(zone)
+    rows = _read_days(session, name, first, last)
+    if _count_missing(session, zone, first, last, rows):
+        rows = _read_days(session, name, first, last)
+    return rows
+
+
+def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows: list[Row[Any]]) -> int:
+    """Count the days of the span missing from `rows`, or stored over other bounds; how many."""
     name = zone_name(zone)
     wanted = {day: day_bounds(day, zone) for day in _days(first, last)}
-    stored = {
-        day: (starts_at, ends_at)
-        for day, starts_at, ends_at in session.execute(
-            select(_DAY.c.day, _DAY.c.starts_at, _DAY.c.ends_at).where(
-                _DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last
-            )
-        )
-    }
+    stored = {row.day: (row.starts_at, row.ends_at) for row in rows}
     stale = [day for day, bounds in stored.items() if wanted[day] != bounds]
     missing = [day for day in wanted if day not in stored or day in stale]
     if not missing:
@@ -81,18 +99,22 @@ def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date
     if stale:
         for table in (_DAY_STATION, _DAY):
             session.execute(delete(table).where(table.c.zone == name, table.c.day.in_(stale)))
-    zero = {"certificates_issued": 0, "refusals_issued": 0, "certificates_revoked": 0}
-    rows = [
-        {"zone": name, "day": day, "starts_at": wanted[day][0], "ends_at": wanted[day][1], **zero}
-        for day in missing
-    ]
-    claim = _insert(session)(_DAY).values(rows)
+    zero = dict.fromkeys(_COUNTS, 0)
+    claim = _insert(session)(_DAY).values(
+        [
+            {"zone": name, "day": day, "starts_at": wanted[day][0], "ends_at": wanted[day][1], **zero}
+            for day in missing
+        ]
+    )
     claimed = list(session.scalars(claim.on_conflict_do_nothing().returning(_DAY.c.day)))
     if claimed:
         _count_inspections(session, name, claimed)
-        _count_certificates(session, name, claimed)
+        _count_days(session, name, claimed)
     session.commit()
     return len(claimed)
+
+
+_COUNTS = ("inspections", "compliant", "certificates_issued", "refusals_issued", "certificates_revoked")
 
 
 def _count_inspections(session: Session, name: str, days: list[date]) -> None:
@@ -110,8 +132,16 @@ def _count_inspections(session: Session, name: str, days: list[date]) -> None:
     session.execute(_DAY_STATION.insert().from_select(columns, counts))
 
 
-def _count_certificates(session: Session, name: str, days: list[date]) -> None:
-    """The claimed days' certificates and refusals issued and certificates revoked."""
+def _count_days(session: Session, name: str, days: list[date]) -> None:
+    """The claimed days' totals: inspections at every station, certificates and refusals issued,
+    certificates revoked."""
+
+    def at_stations(column: Any) -> Any:
+        return (
+            select(func.coalesce(func.sum(column), 0))
+            .where(_DAY_STATION.c.zone == _DAY.c.zone, _DAY_STATION.c.day == _DAY.c.day)
+            .scalar_subquery()
+        )
 
     def issued(compliant: bool) -> Any:
         return (
@@ -135,21 +165,26 @@ def _count_certificates(session: Session, name: str, days: list[date]) -> None:
     session.execute(
         update(_DAY)
         .where(_DAY.c.zone == name, _DAY.c.day.in_(days))
-        .values(certificates_issued=issued(True), refusals_issued=issued(False), certificates_revoked=revoked)
+        .values(
+            inspections=at_stations(_DAY_STATION.c.inspections),
+            compliant=at_stations(_DAY_STATION.c.compliant),
+            certificates_issued=issued(True),
+            refusals_issued=issued(False),
+            certificates_revoked=revoked,
+        )
     )
 
 
 def stored_daily(
-    session: Session, *, zone: tzinfo, first: date, last: date, station_id: int | None = None
+    session: Session, *, zone: tzinfo, first: date, last: date, station_id: int
 ) -> Iterable[tuple[date, int, int]]:
-    """(day, inspections, compliant) of the stored days `first` to `last` that had inspections."""
+    """(day, inspections, compliant) at one station on the stored days `first` to `last` it had any."""
     query = (
         select(_DAY_STATION.c.day, func.sum(_DAY_STATION.c.inspections), func.sum(_DAY_STATION.c.compliant))
         .where(_in_period(zone, first, last))
+        .where(_DAY_STATION.c.station_id == station_id)
         .group_by(_DAY_STATION.c.day)
     )
-    if station_id is not None:
-        query = query.where(_DAY_STATION.c.station_id == station_id)
     return [(day, int(n), int(ok)) for day, n, ok in session.execute(query)]
 
 
@@ -170,18 +205,6 @@ def stored_stations(
         (None if station == NO_STATION else station, name, int(n), int(ok))
         for station, name, n, ok in session.execute(query)
     ]
-
-
-def stored_certificates(session: Session, *, zone: tzinfo, first: date, last: date) -> tuple[int, int, int]:
-    """Certificates and refusals issued, and certificates revoked, over the stored days."""
-    sums = session.execute(
-        select(
-            func.coalesce(func.sum(_DAY.c.certificates_issued), 0),
-            func.coalesce(func.sum(_DAY.c.refusals_issued), 0),
-            func.coalesce(func.sum(_DAY.c.certificates_revoked), 0),
-        ).where(_DAY.c.zone == zone_name(zone), _DAY.c.day >= first, _DAY.c.day <= last)
-    ).one()
-    return int(sums[0]), int(sums[1]), int(sums[2])
 
 
 def _in_period(zone: tzinfo, first: date, last: date) -> Any:

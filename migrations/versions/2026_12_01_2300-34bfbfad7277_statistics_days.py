@@ -31,6 +31,8 @@ def upgrade() -> None:
         sa.Column("day", sa.Date(), nullable=False),
         sa.Column("starts_at", sa.DateTime(timezone=True), nullable=False),
         sa.Column("ends_at", sa.DateTime(timezone=True), nullable=False),
+        sa.Column("inspections", sa.Integer(), nullable=False),
+        sa.Column("compliant", sa.Integer(), nullable=False),
         sa.Column("certificates_issued", sa.Integer(), nullable=False),
         sa.Column("refusals_issued", sa.Integer(), nullable=False),
         sa.Column("certificates_revoked", sa.Integer(), nullable=False),
