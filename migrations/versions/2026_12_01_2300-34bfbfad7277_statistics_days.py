@@ -16,7 +16,6 @@ from collections.abc import Sequence
 import sqlalchemy as sa
 from alembic import op
 
-
 revision: str = "34bfbfad7277"
 down_revision: str | None = "7e3b9c1d5a24"
 branch_labels: str | Sequence[str] | None = None
