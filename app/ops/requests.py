@@ -111,16 +111,17 @@ class RequestContext:
             method = scope.get("method", "")
             REQUESTS.labels(method, handler, str(status)).inc()
             LATENCY.labels(method, handler).observe(elapsed)
-            logger.info(
-                "request",
-                extra={
-                    "fields": {
-                        "request_id": request_id,
-                        "method": method,
-                        "path": scope.get("path", ""),
-                        "handler": handler,
-                        "status": status,
-                        "duration_ms": round(elapsed * 1000, 2),
-                    }
-                },
-            )
+            if logger.isEnabledFor(logging.INFO):
+                fields = {
+                    "request_id": request_id,
+                    "method": method,
+                    "path": scope.get("path", ""),
+                    "handler": handler,
+                    "status": status,
+                    "duration_ms": round(elapsed * 1000, 2),
+                }
+                # The record made directly: logger.info() would walk the stack for the caller's
+                # file and line on every request, which an access line does not show.
+                record = logger.makeRecord(logger.name, logging.INFO, __file__, 0, "request", (), None)
+                record.fields = fields
+                logger.handle(record)
