@@ -168,6 +168,27 @@ def cmd_prune_idempotency_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_count_statistics(args: argparse.Namespace) -> int:
+    """Store the counts of the closed days of the last --days days in the display zone (a nightly job)."""
+    from datetime import UTC, timedelta
+
+    from app.db import utcnow
+    from app.statistics.service import MAX_DAYS
+    from app.statistics.stored import count_closed_days, last_closed_day
+    from app.web.formatting import local_zone
+
+    zone = local_zone() or UTC
+    last = last_closed_day(zone, utcnow())
+    counted, first = 0, last - timedelta(days=args.days - 1)
+    with get_sessionmaker()() as session:
+        while first <= last:  # a year at a time: one statement's worth of days
+            chunk_last = min(last, first + timedelta(days=MAX_DAYS - 1))
+            counted += count_closed_days(session, zone=zone, first=first, last=chunk_last)
+            first = chunk_last + timedelta(days=1)
+    print(f"counted {counted} closed day(s) not stored before, up to {last.isoformat()}")
+    return 0
+
+
 def cmd_create_user(args: argparse.Namespace) -> int:
     """Create an officer or admin; the password is read from standard input."""
     from app.accounts.service import create_user
@@ -275,6 +296,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--older-than-hours", type=int, help="default TRIKECERT_IDEMPOTENCY_KEY_HOURS; at least 24"
     )
     prune.set_defaults(handler=cmd_prune_idempotency_keys)
+
+    count = commands.add_parser(
+        "count-statistics", help="store the statistics of closed days (else done on the first visit)"
+    )
+    count.add_argument(
+        "--days", type=int, default=366, help="how many days back from yesterday (default 366)"
+    )
+    count.set_defaults(handler=cmd_count_statistics)
 
     user = commands.add_parser("create-user", help="create an account (password from standard input)")
     user.add_argument("email")

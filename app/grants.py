@@ -44,6 +44,9 @@ PRIVILEGES: dict[str, str] = {
     "type_assessment": APPEND_ONLY,  # a make and model assessed: kept as computed
     "type_assessment_inspection": APPEND_ONLY,
     "type_assessment_case": APPEND_ONLY,
+    # Derived counts of closed days (app/statistics/models.py), counted again when stale: not records.
+    "statistics_day": DISPOSABLE,
+    "statistics_day_station": DISPOSABLE,
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

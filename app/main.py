@@ -58,9 +58,9 @@ def create_app() -> FastAPI:
     )
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.include_router(health_router)  # first: a probe is matched before the API's many routes
     app.include_router(api_router)
     app.include_router(public_router)
-    app.include_router(health_router)
     app.include_router(metrics_router)
     install_docs(app)
     install_web(app)  # the officer pages; after the API's error handlers

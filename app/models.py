@@ -14,6 +14,7 @@ from app.db import Base
 from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stations.models import Station, StationRateWindow
+from app.statistics.models import StatisticsDay, StatisticsDayStation
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
@@ -37,6 +38,8 @@ __all__ = [
     "SigningKey",
     "Station",
     "StationRateWindow",
+    "StatisticsDay",
+    "StatisticsDayStation",
     "TypeAssessmentCase",
     "TypeAssessmentInspection",
     "TypeAssessmentRecord",

@@ -1,7 +1,14 @@
-"""Load benchmark: POST /api/v1/inspections vs GET /healthz on the real server, SQLite and PostgreSQL.
+"""Load benchmark: trikecert beside its yardsticks, side by side in one run, on SQLite and PostgreSQL.
 
 Run by hand (needs Debian's wrk and a local PostgreSQL):  .venv/bin/python bench/load.py
-Options: --backends sqlite,postgresql --workers 2 --duration 10 --connections 32,64
+Options: --backends sqlite,postgresql --workers 2 --duration 10 --connections 32 --rounds 2
+
+Per backend, three servers run at once with the same worker count on one fresh database:
+trikecert (`trikecert serve`), the naive peer and the bare Starlette route (bench/peer.py). Each
+round loads, one after the other: the bare route and trikecert's /healthz; the peer's POST and
+trikecert's POST /api/v1/inspections, without and with an Idempotency-Key. Rounds repeat the
+sequence, so a change in the machine's load falls on every target alike. Each row gives the
+server's CPU (and PostgreSQL's) per answered request and the machine's load average.
 """
 
 from __future__ import annotations
@@ -86,15 +93,7 @@ print(key)
 
 def wait_ready(port: int) -> None:
     """Poll /readyz until the server answers 200."""
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:
-                if response.status == 200:
-                    return
-        except OSError:
-            time.sleep(0.2)
-    raise RuntimeError("server did not become ready")
+    wait_answering(port, "/readyz")
 
 
 def parse_wrk(output: str) -> tuple[float, str, str, int]:
@@ -158,6 +157,24 @@ def measured(
     return result, app_ms, db_ms
 
 
+def start(command: list[str], env: dict[str, str]) -> subprocess.Popen[bytes]:
+    """A server process, its output discarded."""
+    return subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def wait_answering(port: int, path: str) -> None:
+    """Poll a GET path until it answers 200."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            with urllib.request.urlopen(f"http://127.0.0.1:{port}{path}", timeout=2) as response:
+                if response.status == 200:
+                    return
+        except OSError:
+            time.sleep(0.2)
+    raise RuntimeError(f"nothing answered on port {port}")
+
+
 def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
     """Start a server on the backend, run every load, and return markdown table rows."""
     scratch = Path(tempfile.mkdtemp(prefix="trikecert-bench-"))
@@ -170,35 +187,68 @@ def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
         TRIKECERT_STATION_RATE_LIMIT="1000000000",
     )
     key = seed(env)
-    port = free_port()
-    trikecert = str(Path(sys.executable).parent / "trikecert")
-    server = subprocess.Popen(
-        [trikecert, "serve", "--port", str(port), "--workers", str(args.workers), "--no-migrate"],
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
+    sys.path.insert(0, str(ROOT / "bench"))
+    from peer import create_table
+
+    create_table(env["TRIKECERT_DATABASE_URL"])
+    bin_dir = Path(sys.executable).parent
+    ports = {name: free_port() for name in ("trikecert", "peer", "bare")}
+    workers = ["--workers", str(args.workers)]
+    uvicorn = [str(bin_dir / "uvicorn"), "--app-dir", str(ROOT / "bench"), "--no-access-log", *workers]
+    peer_env = dict(env, PEER_DATABASE_URL=env["TRIKECERT_DATABASE_URL"])
+    servers = {
+        "trikecert": start(
+            [
+                str(bin_dir / "trikecert"),
+                "serve",
+                "--port",
+                str(ports["trikecert"]),
+                *workers,
+                "--no-migrate",
+            ],
+            env,
+        ),
+        "peer": start([*uvicorn, "--port", str(ports["peer"]), "peer:peer_app"], peer_env),
+        "bare": start([*uvicorn, "--port", str(ports["bare"]), "peer:bare_app"], env),
+    }
     rows = []
     try:
-        wait_ready(port)
+        wait_ready(ports["trikecert"])
+        wait_answering(ports["bare"], "/healthz")
         wrk_env = dict(env, TRIKECERT_BENCH_KEY=key, TRIKECERT_BENCH_VEHICLES=str(VEHICLES))
-        base = f"http://127.0.0.1:{port}"
+        script = str(ROOT / "bench/post_inspection.lua")
+        url = {name: f"http://127.0.0.1:{port}" for name, port in ports.items()}
+        targets = [
+            ("bare Starlette GET /healthz", "bare", f"{url['bare']}/healthz", None, wrk_env),
+            ("trikecert GET /healthz", "trikecert", f"{url['trikecert']}/healthz", None, wrk_env),
+            ("peer POST (one row)", "peer", url["peer"], script, wrk_env),
+            ("trikecert POST", "trikecert", url["trikecert"], script, wrk_env),
+            (
+                "trikecert POST + Idempotency-Key",
+                "trikecert",
+                url["trikecert"],
+                script,
+                dict(wrk_env, TRIKECERT_BENCH_IDEMPOTENCY="1"),
+            ),
+        ]
         for connections in args.connections:
-            health, health_cpu, _ = measured(f"{base}/healthz", connections, args, wrk_env, server.pid, None)
-            script = str(ROOT / "bench/post_inspection.lua")
-            post, post_cpu, post_db = measured(base, connections, args, wrk_env, server.pid, script)
-            load = os.getloadavg()[0]  # other work on the machine skews every figure: show it
-            share = 100 * post[0] / health[0]
-            db = f"{post_db:.2f}" if backend == "postgresql" else "(in app)"
-            rows.append(
-                f"| {backend} | {connections} | {health[0]:.0f} | {health[1]} / {health[2]} | "
-                f"{post[0]:.0f} | {post[1]} / {post[2]} | {share:.1f} % | {post[3]} | "
-                f"{health_cpu:.2f} | {post_cpu:.2f} | {db} | {load:.1f} |"
-            )
-            print(rows[-1], flush=True)
+            for round_number in range(1, args.rounds + 1):
+                for name, server, target, lua, target_env in targets:
+                    result, app_ms, db_ms = measured(
+                        target, connections, args, target_env, servers[server].pid, lua
+                    )
+                    load = os.getloadavg()[0]  # other work on the machine skews every figure: show it
+                    db = f"{db_ms:.2f}" if backend == "postgresql" else "(in app)"
+                    rows.append(
+                        f"| {backend} | {connections} | {round_number} | {name} | {result[0]:.0f} | "
+                        f"{result[1]} / {result[2]} | {result[3]} | {app_ms:.2f} | {db} | {load:.1f} |"
+                    )
+                    print(rows[-1], flush=True)
     finally:
-        server.terminate()
-        server.wait(timeout=30)
+        for process in servers.values():
+            process.terminate()
+        for process in servers.values():
+            process.wait(timeout=30)
         shutil.rmtree(scratch, ignore_errors=True)
         if backend == "postgresql":
             drop_database(env["TRIKECERT_DATABASE_URL"])
@@ -211,7 +261,8 @@ def main() -> None:
     parser.add_argument("--backends", default="sqlite,postgresql")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--duration", type=int, default=10)
-    parser.add_argument("--connections", default="32,64")
+    parser.add_argument("--connections", default="32")
+    parser.add_argument("--rounds", type=int, default=2)
     args = parser.parse_args()
     args.connections = [int(c) for c in args.connections.split(",")]
     print(
@@ -219,11 +270,10 @@ def main() -> None:
         f"server workers: {args.workers}; wrk -t2 -d{args.duration}s on the same cores"
     )
     print(
-        "| backend | connections | /healthz req/s | /healthz p50 / p99 | POST req/s | POST p50 / p99 "
-        "| POST / healthz | non-2xx | app CPU ms per /healthz | app CPU ms per POST | PostgreSQL CPU ms "
-        "per POST | load avg (1 min) |"
+        "| backend | connections | round | target | req/s | p50 / p99 | non-2xx | server CPU ms per "
+        "request | PostgreSQL CPU ms per request | load avg (1 min) |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for backend in args.backends.split(","):
         run_backend(backend, args)
 

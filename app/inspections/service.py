@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from datetime import UTC, date, datetime
 from decimal import ROUND_HALF_EVEN, ROUND_HALF_UP, Decimal
 from fractions import Fraction
+from operator import itemgetter
 from typing import cast
 
 from sqlalchemy import Table, func, select
@@ -141,38 +142,13 @@ def record_inspection(
     # cost as much again in Python for rows that are written once and never changed.
     connection = session.connection()
     inspection_id = connection.execute(_INSERT_INSPECTION, columns).scalar_one()
-    readings = _reading_rows(inspection_id, 0, request.readings)
-    for measured in request.measured_cases:
-        readings += _reading_rows(inspection_id, measured.occupants, measured.readings)
-    cases = [
-        LoadingCaseRow(
-            inspection_id=inspection_id,
-            occupants=case.occupants,
-            total_kg=quantize(case.total_kg, 6),
-            rear_kg=quantize(case.rear_kg, 6),
-            lsf=quantize(case.lsf, 8),
-            variance=quantize(case.variance, 8),
-            compliant=case.compliant,
-            measured=case.measured,
-            lsf_exact=f"{case.lsf.numerator}/{case.lsf.denominator}",
-        )
-        for case in result.cases
-    ]
-    connection.execute(_READING.insert(), [_values(row, _READING) for row in readings])
-    connection.execute(_CASE.insert(), [_values(row, _CASE) for row in cases])
-    # The rows just inserted join the session as persistent objects (no second INSERT), and the
-    # inspection gets its vehicle, station and collections in their relationships' order, without
-    # reading anything back.
-    inspection = Inspection(id=inspection_id, **columns)
-    for row in [inspection, *readings, *cases]:
-        make_transient_to_detached(row)
-        session.add(row)
-    readings.sort(key=lambda r: (r.case_occupants, r.wheel, r.sequence))
-    cases.sort(key=lambda c: c.occupants)
-    set_committed_value(inspection, "vehicle", vehicle)
-    set_committed_value(inspection, "station", station)
-    set_committed_value(inspection, "readings", readings)
-    set_committed_value(inspection, "loading_cases", cases)
+    readings = _reading_rows(inspection_id, request)
+    cases = _case_rows(inspection_id, result)
+    connection.execute(_READING.insert(), readings)
+    connection.execute(_CASE.insert(), cases)
+    inspection = _as_stored(
+        session, Inspection(id=inspection_id, **columns), vehicle, station, readings, cases
+    )
     if on_stored is not None:
         on_stored(session, inspection)
     session.commit()
@@ -186,9 +162,28 @@ _CASE = cast(Table, LoadingCaseRow.__table__)
 _INSERT_INSPECTION = _INSPECTION.insert().returning(_INSPECTION.c.id)
 
 
-def _values(row: object, table: Table) -> dict[str, object]:
-    """A row object's value for every column of its table, for a Core INSERT."""
-    return {column.key: getattr(row, column.key) for column in table.columns}
+def _as_stored(
+    session: Session,
+    inspection: Inspection,
+    vehicle: Vehicle,
+    station: Station | None,
+    readings: list[dict[str, object]],
+    cases: list[dict[str, object]],
+) -> Inspection:
+    """The inspection just inserted, joined to the session as if loaded from it (nothing read back).
+
+    It gets its vehicle, station, readings and cases in their relationships' order. Only the
+    inspection joins the session's identity map: its rows are read through it, never changed.
+    """
+    make_transient_to_detached(inspection)
+    session.add(inspection)
+    set_committed_value(inspection, "vehicle", vehicle)
+    set_committed_value(inspection, "station", station)
+    in_order = sorted(readings, key=itemgetter("case_occupants", "wheel", "sequence"))
+    set_committed_value(inspection, "readings", [Reading(**row) for row in in_order])
+    by_occupants = sorted(cases, key=itemgetter("occupants"))
+    set_committed_value(inspection, "loading_cases", [LoadingCaseRow(**row) for row in by_occupants])
+    return inspection
 
 
 def _scale(value: Decimal, places: int) -> Decimal:
@@ -215,17 +210,38 @@ def check_scale(
     check_settled(sets, rules=rules, division_kg=station.division_kg if station else None)
 
 
-def _reading_rows(inspection_id: int, case_occupants: int, readings: WheelReadings) -> list[Reading]:
+def _reading_rows(inspection_id: int, request: InspectionRequest) -> list[dict[str, object]]:
+    """Every raw reading of the request as a row: the base weighing (case 0), then each measured case."""
+    sets = [(0, request.readings)] + [(m.occupants, m.readings) for m in request.measured_cases]
     return [
-        Reading(
-            inspection_id=inspection_id,
-            case_occupants=case_occupants,
-            wheel=wheel,
-            sequence=i,
-            value_kg=_scale(value, 3),
-        )
+        {
+            "inspection_id": inspection_id,
+            "case_occupants": case_occupants,
+            "wheel": wheel,
+            "sequence": i,
+            "value_kg": _scale(value, 3),
+        }
+        for case_occupants, readings in sets
         for wheel in WHEELS
         for i, value in enumerate(readings.values(wheel))
+    ]
+
+
+def _case_rows(inspection_id: int, result: Assessment) -> list[dict[str, object]]:
+    """Table 4 as rows: each loading case's exact values rounded for storage, and its exact LSF."""
+    return [
+        {
+            "inspection_id": inspection_id,
+            "occupants": case.occupants,
+            "total_kg": quantize(case.total_kg, 6),
+            "rear_kg": quantize(case.rear_kg, 6),
+            "lsf": quantize(case.lsf, 8),
+            "variance": quantize(case.variance, 8),
+            "compliant": case.compliant,
+            "measured": case.measured,
+            "lsf_exact": f"{case.lsf.numerator}/{case.lsf.denominator}",
+        }
+        for case in result.cases
     ]
 
 

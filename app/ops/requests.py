@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import atexit
 import json
 import logging
+import queue
 import re
 import time
 import uuid
+from logging.handlers import QueueHandler, QueueListener
 from typing import Any
 
 from prometheus_client import Counter, Histogram
@@ -42,12 +45,34 @@ class JsonFormatter(logging.Formatter):
         return json.dumps(entry, default=str)
 
 
+class _HandOver(QueueHandler):
+    """Queue the record as it is: the log thread formats and writes it, off the request's path."""
+
+    def prepare(self, record: logging.LogRecord) -> logging.LogRecord:
+        """The record itself (a thread's queue needs no pickling, so nothing is formatted here)."""
+        return record
+
+
+_writer: QueueListener | None = None
+
+
 def configure_logging(level: int = logging.INFO) -> None:
-    """Send the app's logs to standard error as JSON lines."""
-    handler = logging.StreamHandler()
+    """Send the app's logs to standard error as JSON lines, written by a thread of their own.
+
+    A request only queues its line; one listener thread per process formats and writes them (and
+    writes what is left when the process exits).
+    """
+    global _writer
+    handler = logging.StreamHandler()  # the standard error of now (tests may have replaced it)
     handler.setFormatter(JsonFormatter())
+    if _writer is None:
+        _writer = QueueListener(queue.SimpleQueue(), handler)
+        _writer.start()
+        atexit.register(_writer.stop)
+    else:
+        _writer.handlers = (handler,)
     root = logging.getLogger("trikecert")
-    root.handlers[:] = [handler]
+    root.handlers[:] = [_HandOver(_writer.queue)]
     root.setLevel(level)
     root.propagate = False
 
@@ -86,16 +111,17 @@ class RequestContext:
             method = scope.get("method", "")
             REQUESTS.labels(method, handler, str(status)).inc()
             LATENCY.labels(method, handler).observe(elapsed)
-            logger.info(
-                "request",
-                extra={
-                    "fields": {
-                        "request_id": request_id,
-                        "method": method,
-                        "path": scope.get("path", ""),
-                        "handler": handler,
-                        "status": status,
-                        "duration_ms": round(elapsed * 1000, 2),
-                    }
-                },
-            )
+            if logger.isEnabledFor(logging.INFO):
+                fields = {
+                    "request_id": request_id,
+                    "method": method,
+                    "path": scope.get("path", ""),
+                    "handler": handler,
+                    "status": status,
+                    "duration_ms": round(elapsed * 1000, 2),
+                }
+                # The record made directly: logger.info() would walk the stack for the caller's
+                # file and line on every request, which an access line does not show.
+                record = logger.makeRecord(logger.name, logging.INFO, __file__, 0, "request", (), None)
+                record.fields = fields
+                logger.handle(record)

@@ -1,9 +1,15 @@
 """Statistics for regulators: inspections per local day and per station, compliant or not, certificates.
 
-Days are calendar days in the officers' zone. The database groups the inspections of the period by
-the quarter hour (UTC) they were made in, which needs no time-zone support from SQLite; each quarter
-hour then falls on one local day in Python, so a zone's daylight-saving changes and half-hour
-offsets are respected. That is at most 96 groups a day, read through the index on `created_at`.
+Days are calendar days in the officers' zone. Closed days are read from their stored counts
+(app/statistics/stored.py: taken once from the records, which never change for a day that has
+ended), so a year costs the same at any size of the history; only the open days (today, and
+yesterday during the first hour after midnight) are counted live from the records.
+
+Counting live, the database groups the inspections by the quarter hour (UTC) they were made in,
+which needs no time-zone support from SQLite; each quarter hour then falls on one local day in
+Python, so a zone's daylight-saving changes and half-hour offsets are respected. That is at most 96
+groups a day, read through the index on `created_at`. The same functions are the full count the
+stored counts are tested against.
 """
 
 from __future__ import annotations
@@ -16,8 +22,10 @@ from sqlalchemy import BigInteger, ColumnElement, Integer, case, cast, func, sel
 from sqlalchemy.orm import Session
 
 from app.certificates.models import Certificate, CertificateRevocation
+from app.db import utcnow
 from app.inspections.models import Inspection
 from app.stations.models import Station
+from app.statistics import stored
 
 BUCKET_SECONDS = 900  # a quarter hour: every time zone's offset is a whole number of them
 MAX_DAYS = 366
@@ -165,15 +173,91 @@ def certificate_counts(session: Session, *, period: Period, zone: tzinfo) -> tup
     return by_kind.get(True, 0), by_kind.get(False, 0), int(revoked or 0)
 
 
+class _Tally:
+    """The counts of a period being added up from its stored and its live part."""
+
+    def __init__(self, period: Period) -> None:
+        self.days = {period.first + timedelta(days=i): Counts() for i in range(period.days)}
+        self.stations: dict[int | None, StationCounts] = {}
+        self.certificates = [0, 0, 0]  # certificates issued, refusals issued, certificates revoked
+
+    def add_day(self, day: date, counts: Counts) -> None:
+        self.days[day] += counts
+
+    def add_station(self, station_id: int | None, name: str | None, counts: Counts) -> None:
+        before = self.stations.get(station_id)
+        self.stations[station_id] = StationCounts(
+            station_id, name, before.counts + counts if before else counts
+        )
+
+    def add_certificates(self, counts: tuple[int, int, int]) -> None:
+        self.certificates = [mine + theirs for mine, theirs in zip(self.certificates, counts, strict=True)]
+
+
+def _add_stored(
+    tally: _Tally, session: Session, *, closed: Period, zone: tzinfo, station_id: int | None
+) -> None:
+    """The closed days' stored counts (counted from the records first where missing)."""
+    first, last = closed.first, closed.last
+    days = stored.closed_days(session, zone=zone, first=first, last=last)
+    if station_id is None:
+        for row in days:
+            tally.add_day(row.day, Counts(row.inspections, row.compliant))
+    else:
+        for day, inspections, compliant in stored.stored_daily(
+            session, zone=zone, first=first, last=last, station_id=station_id
+        ):
+            tally.add_day(day, Counts(inspections, compliant))
+    for sid, name, inspections, compliant in stored.stored_stations(
+        session, zone=zone, first=first, last=last, station_id=station_id
+    ):
+        tally.add_station(sid, name, Counts(inspections, compliant))
+    issued = sum(row.certificates_issued for row in days)
+    refusals = sum(row.refusals_issued for row in days)
+    tally.add_certificates((issued, refusals, sum(row.certificates_revoked for row in days)))
+
+
+def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:
+    """The open days counted from the records."""
+    for day in daily_counts(session, period=live, zone=zone, station_id=station_id):
+        tally.add_day(day.day, day.counts)
+    for station in station_counts(session, period=live, zone=zone, station_id=station_id):
+        tally.add_station(station.station_id, station.station, station.counts)
+    tally.add_certificates(certificate_counts(session, period=live, zone=zone))
+
+
 def statistics(
-    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
+    session: Session,
+    *,
+    period: Period,
+    zone: tzinfo,
+    station_id: int | None = None,
+    now: datetime | None = None,
 ) -> Statistics:
-    """The counts of a period: per day, per station, in total, and the certificates issued and revoked."""
-    days = daily_counts(session, period=period, zone=zone, station_id=station_id)
+    """The counts of a period: per day, per station, in total, and the certificates issued and revoked.
+
+    The closed days come from their stored counts, the open ones are counted live; `now` (default:
+    the current time) decides which days are closed.
+    """
+    last_closed = min(period.last, stored.last_closed_day(zone, now or utcnow()))
+    first_open = max(period.first, last_closed + timedelta(days=1))
+    tally = _Tally(period)
+    if period.first <= last_closed:
+        closed = Period(period.first, last_closed)
+        _add_stored(tally, session, closed=closed, zone=zone, station_id=station_id)
+    if first_open <= period.last:
+        live = Period(first_open, period.last)
+        _add_live(tally, session, live=live, zone=zone, station_id=station_id)
+    days = [DayCounts(day, counts) for day, counts in tally.days.items()]
     total = sum((d.counts for d in days), Counts())
-    stations = station_counts(session, period=period, zone=zone, station_id=station_id)
-    issued, refusals, revoked = certificate_counts(session, period=period, zone=zone)
+    stations = sorted(tally.stations.values(), key=_busiest_first)
+    issued, refusals, revoked = tally.certificates
     return Statistics(period, total, days, stations, issued, refusals, revoked)
+
+
+def _busiest_first(station: StationCounts) -> tuple[int, bool, str]:
+    """Most inspections first; among equals by name, the officers' pages (no station) last."""
+    return -station.counts.inspections, station.station is None, station.station or ""
 
 
 def busiest(days: Sequence[DayCounts]) -> int:

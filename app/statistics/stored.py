@@ -1,0 +1,212 @@
+"""The counts of closed local days, taken once from the records and stored (derived data, not records).
+
+A local day is closed an hour after it ends in its zone: an inspection or certificate takes its time
+stamp moments before its commit, so by then every row of the day is committed, and, the records
+being append-only, none is ever added to it or taken from it. Its counts are taken on the first
+request that needs them (or by `trikecert count-statistics`), set-based: the day's row is claimed by
+an INSERT ... ON CONFLICT DO NOTHING, and only the transaction that inserted it counts the day, so
+concurrent requests and worker processes never count a day twice (SQLite: one writer at a time).
+The day keeps the UTC bounds it was counted over: after a change of the display zone the new zone's
+days are counted afresh under its own name, and a day whose bounds the zone's rules no longer give
+(a tzdata update) is counted again.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from datetime import UTC, date, datetime, time, timedelta, tzinfo
+from typing import Any, cast
+
+from sqlalchemy import Row, Table, and_, case, delete, func, select, update
+from sqlalchemy.dialects import postgresql, sqlite
+from sqlalchemy.orm import Session
+
+from app.certificates.models import Certificate, CertificateRevocation
+from app.db import begin_write
+from app.inspections.models import Inspection
+from app.stations.models import Station
+from app.statistics.models import NO_STATION, StatisticsDay, StatisticsDayStation
+
+CLOSED_AFTER = timedelta(hours=1)
+_DAY = cast(Table, StatisticsDay.__table__)
+_DAY_STATION = cast(Table, StatisticsDayStation.__table__)
+_INSPECTION = cast(Table, Inspection.__table__)
+
+
+def zone_name(zone: tzinfo) -> str:
+    """The name the zone's days are stored under: its IANA key (Africa/Lagos), else its own name (UTC)."""
+    return str(getattr(zone, "key", None) or datetime.now(zone).tzname() or "UTC")
+
+
+def day_bounds(day: date, zone: tzinfo) -> tuple[datetime, datetime]:
+    """The UTC start of the local day and the UTC start of the next one."""
+    start = datetime.combine(day, time.min, tzinfo=zone).astimezone(UTC)
+    end = datetime.combine(day + timedelta(days=1), time.min, tzinfo=zone).astimezone(UTC)
+    return start, end
+
+
+def last_closed_day(zone: tzinfo, now: datetime) -> date:
+    """The latest local day that ended at least CLOSED_AFTER before `now`."""
+    return (now - CLOSED_AFTER).astimezone(zone).date() - timedelta(days=1)
+
+
+def _days(first: date, last: date) -> list[date]:
+    return [first + timedelta(days=i) for i in range((last - first).days + 1)]
+
+
+def _insert(session: Session) -> Any:
+    return postgresql.insert if session.get_bind().dialect.name == "postgresql" else sqlite.insert
+
+
+def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
+    return list(
+        session.execute(
+            select(_DAY)
+            .where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last)
+            .order_by(_DAY.c.day)
+        )
+    )
+
+
+def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> int:
+    """Store the counts of the closed days `first` to `last` not stored yet; how many were counted.
+
+    The caller passes closed days only (see last_closed_day). Commits when it stored anything.
+    """
+    return _count_missing(session, zone, first, last, _read_days(session, zone_name(zone), first, last))
+
+
+def closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> list[Row[Any]]:
+    """The stored rows (a StatisticsDay's columns) of the closed days `first` to `last`, oldest first;
+    those not stored yet are counted first."""
+    name = zone_name(zone)
+    rows = _read_days(session, name, first, last)
+    if _count_missing(session, zone, first, last, rows):
+        rows = _read_days(session, name, first, last)
+    return rows
+
+
+def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows: list[Row[Any]]) -> int:
+    """Count the days of the span missing from `rows`, or stored over other bounds; how many."""
+    name = zone_name(zone)
+    wanted = {day: day_bounds(day, zone) for day in _days(first, last)}
+    stored = {row.day: (row.starts_at, row.ends_at) for row in rows}
+    stale = [day for day, bounds in stored.items() if wanted[day] != bounds]
+    missing = [day for day in wanted if day not in stored or day in stale]
+    if not missing:
+        return 0
+    begin_write(session)
+    if stale:
+        for table in (_DAY_STATION, _DAY):
+            session.execute(delete(table).where(table.c.zone == name, table.c.day.in_(stale)))
+    zero = dict.fromkeys(_COUNTS, 0)
+    claim = _insert(session)(_DAY).values(
+        [
+            {"zone": name, "day": day, "starts_at": wanted[day][0], "ends_at": wanted[day][1], **zero}
+            for day in missing
+        ]
+    )
+    claimed = list(session.scalars(claim.on_conflict_do_nothing().returning(_DAY.c.day)))
+    if claimed:
+        _count_inspections(session, name, claimed)
+        _count_days(session, name, claimed)
+    session.commit()
+    return len(claimed)
+
+
+_COUNTS = ("inspections", "compliant", "certificates_issued", "refusals_issued", "certificates_revoked")
+
+
+def _count_inspections(session: Session, name: str, days: list[date]) -> None:
+    """One row per claimed day and station with inspections, counted inside the database."""
+    station = func.coalesce(_INSPECTION.c.station_id, NO_STATION)
+    compliant = func.coalesce(func.sum(case((_INSPECTION.c.compliant, 1), else_=0)), 0)
+    in_day = and_(_INSPECTION.c.created_at >= _DAY.c.starts_at, _INSPECTION.c.created_at < _DAY.c.ends_at)
+    counts = (
+        select(_DAY.c.zone, _DAY.c.day, station, func.count(), compliant)
+        .select_from(_DAY.join(_INSPECTION, in_day))
+        .where(_DAY.c.zone == name, _DAY.c.day.in_(days))
+        .group_by(_DAY.c.zone, _DAY.c.day, station)
+    )
+    columns = ["zone", "day", "station_id", "inspections", "compliant"]
+    session.execute(_DAY_STATION.insert().from_select(columns, counts))
+
+
+def _count_days(session: Session, name: str, days: list[date]) -> None:
+    """The claimed days' totals: inspections at every station, certificates and refusals issued,
+    certificates revoked."""
+
+    def at_stations(column: Any) -> Any:
+        return (
+            select(func.coalesce(func.sum(column), 0))
+            .where(_DAY_STATION.c.zone == _DAY.c.zone, _DAY_STATION.c.day == _DAY.c.day)
+            .scalar_subquery()
+        )
+
+    def issued(compliant: bool) -> Any:
+        return (
+            select(func.count())
+            .where(
+                Certificate.compliant == compliant,
+                Certificate.issued_at >= _DAY.c.starts_at,
+                Certificate.issued_at < _DAY.c.ends_at,
+            )
+            .scalar_subquery()
+        )
+
+    revoked = (
+        select(func.count())
+        .where(
+            CertificateRevocation.revoked_at >= _DAY.c.starts_at,
+            CertificateRevocation.revoked_at < _DAY.c.ends_at,
+        )
+        .scalar_subquery()
+    )
+    session.execute(
+        update(_DAY)
+        .where(_DAY.c.zone == name, _DAY.c.day.in_(days))
+        .values(
+            inspections=at_stations(_DAY_STATION.c.inspections),
+            compliant=at_stations(_DAY_STATION.c.compliant),
+            certificates_issued=issued(True),
+            refusals_issued=issued(False),
+            certificates_revoked=revoked,
+        )
+    )
+
+
+def stored_daily(
+    session: Session, *, zone: tzinfo, first: date, last: date, station_id: int
+) -> Iterable[tuple[date, int, int]]:
+    """(day, inspections, compliant) at one station on the stored days `first` to `last` it had any."""
+    query = (
+        select(_DAY_STATION.c.day, func.sum(_DAY_STATION.c.inspections), func.sum(_DAY_STATION.c.compliant))
+        .where(_in_period(zone, first, last))
+        .where(_DAY_STATION.c.station_id == station_id)
+        .group_by(_DAY_STATION.c.day)
+    )
+    return [(day, int(n), int(ok)) for day, n, ok in session.execute(query)]
+
+
+def stored_stations(
+    session: Session, *, zone: tzinfo, first: date, last: date, station_id: int | None = None
+) -> Iterable[tuple[int | None, str | None, int, int]]:
+    """(station id, name, inspections, compliant) over the stored days; the officers' pages as None."""
+    sid = _DAY_STATION.c.station_id
+    query = (
+        select(sid, Station.name, func.sum(_DAY_STATION.c.inspections), func.sum(_DAY_STATION.c.compliant))
+        .outerjoin(Station, Station.id == sid)
+        .where(_in_period(zone, first, last))
+        .group_by(sid, Station.name)
+    )
+    if station_id is not None:
+        query = query.where(sid == station_id)
+    return [
+        (None if station == NO_STATION else station, name, int(n), int(ok))
+        for station, name, n, ok in session.execute(query)
+    ]
+
+
+def _in_period(zone: tzinfo, first: date, last: date) -> Any:
+    table = _DAY_STATION
+    return and_(table.c.zone == zone_name(zone), table.c.day >= first, table.c.day <= last)

@@ -1,0 +1,252 @@
+"""The stored counts of closed days: the statistics agree exactly with a full count of the records,
+whether a day is read from its stored counts or counted live, across midnight in the display zone,
+across a change of that zone (half-hour offsets and daylight saving), under concurrent requests,
+and when a day's bounds change under a new tzdata."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from datetime import UTC, date, datetime, timedelta, tzinfo
+from decimal import Decimal
+from zoneinfo import ZoneInfo
+
+import pytest
+from sqlalchemy import Engine, func, select, update
+from sqlalchemy.orm import Session
+
+from app import db
+from app.certificates.actors import Actor
+from app.certificates.service import issue_certificate, revoke_certificate
+from app.config import get_settings
+from app.inspections.service import InspectionRequest, record_inspection
+from app.stability import Rules, WheelReadings
+from app.stations.models import Station
+from app.stations.service import create_station
+from app.statistics.models import StatisticsDay, StatisticsDayStation
+from app.statistics.service import (
+    Period,
+    Statistics,
+    certificate_counts,
+    daily_counts,
+    station_counts,
+    statistics,
+)
+from app.statistics.stored import count_closed_days, zone_name
+from app.vehicles.service import register_vehicle
+
+LAGOS = ZoneInfo("Africa/Lagos")  # UTC+1 all year
+NEW_YORK = ZoneInfo("America/New_York")  # UTC-5, UTC-4 from 8 March 2026
+KOLKATA = ZoneInfo("Asia/Kolkata")  # UTC+5:30
+SEATS = [("driver", Decimal("0.9303"))] + [("passenger", Decimal("1.6303"))] * 3
+PERIOD = Period(date(2026, 3, 4), date(2026, 3, 12))
+AFTER_THE_PERIOD = datetime(2026, 3, 20, tzinfo=UTC)
+
+Store = Callable[..., int]
+
+
+@pytest.fixture
+def store(session: Session, backdate: Callable[..., None]) -> Store:
+    """Store an inspection as if made at `at` (front 250 kg complies, 108 fails); its id."""
+    register_vehicle(
+        session,
+        registration_number="BDG 252 QH",
+        make="Bajaj",
+        model="RE",
+        wheelbase_m=Decimal("2"),
+        seats=SEATS,
+    )
+
+    def inspect(at: datetime, *, compliant: bool, station: Station | None = None) -> int:
+        front = Decimal("250") if compliant else Decimal("108")
+        readings = WheelReadings((front,), (Decimal("115"),), (Decimal("135"),))
+        request = InspectionRequest(registration_number="BDG 252 QH", readings=readings)
+        stored = record_inspection(session, request=request, rules=Rules(), station=station)
+        session.commit()
+        backdate(stored.id, at)
+        return stored.id
+
+    return inspect
+
+
+def at(day: int, hour: int, minute: int = 0) -> datetime:
+    return datetime(2026, 3, day, hour, minute, tzinfo=UTC)
+
+
+@pytest.fixture
+def history(session: Session, store: Store) -> list[int]:
+    """Inspections at two stations and in the pages, on the edges of local days in every zone
+    tested (hour and half-hour boundaries, the night New York moves its clocks), and certificates
+    issued and revoked on such edges."""
+    agbara, _ = create_station(session, name="Agbara weighbridge")
+    ikeja, _ = create_station(session, name="Ikeja weighbridge")
+    moments = [
+        at(4, 12),
+        at(5, 4, 59),  # 23:59 in New York, 10:29 in Kolkata
+        at(5, 5, 0),  # 00:00 in New York
+        at(5, 18, 29),  # 23:59 in Kolkata
+        at(5, 18, 30),  # 00:00 in Kolkata
+        at(6, 22, 59),  # 23:59 in Lagos
+        at(6, 23, 0),  # 00:00 in Lagos
+        at(8, 6, 59),  # 02:59 EDT, just after New York's change
+        at(8, 7, 30),
+        at(9, 3, 59),  # 23:59 EDT
+        at(9, 4, 0),  # 00:00 EDT
+        at(11, 23, 45),
+        at(12, 13, 15),
+    ]
+    ids = []
+    for i, moment in enumerate(moments):
+        station = (agbara, ikeja, None)[i % 3]
+        ids.append(store(moment, compliant=i % 4 != 1, station=station))
+    actor, settings = Actor.of_cli(), get_settings()
+    first = issue_certificate(
+        session, inspection_id=ids[4], actor=actor, settings=settings, now=at(5, 18, 31)
+    )
+    issue_certificate(session, inspection_id=ids[5], actor=actor, settings=settings, now=at(6, 22, 59))
+    issue_certificate(session, inspection_id=ids[9], actor=actor, settings=settings, now=at(9, 4, 0))
+    admin = Actor("admin", admin=True)
+    revoke_certificate(
+        session, number=first.certificate.number, actor=admin, reason="Wrong", now=at(6, 23, 0)
+    )
+    return ids
+
+
+def full_count(session: Session, period: Period, zone: tzinfo, station_id: int | None = None) -> Statistics:
+    """The period's counts taken from the records alone, every day live."""
+    days = daily_counts(session, period=period, zone=zone, station_id=station_id)
+    stations = station_counts(session, period=period, zone=zone, station_id=station_id)
+    issued, refusals, revoked = certificate_counts(session, period=period, zone=zone)
+    total = days[0].counts
+    for day in days[1:]:
+        total += day.counts
+    return Statistics(period, total, days, stations, issued, refusals, revoked)
+
+
+def same(found: Statistics, expected: Statistics) -> None:
+    assert found.days == expected.days
+    assert found.total == expected.total
+    assert sorted(found.stations, key=str) == sorted(expected.stations, key=str)
+    counts = (found.certificates_issued, found.refusals_issued, found.certificates_revoked)
+    assert counts == (expected.certificates_issued, expected.refusals_issued, expected.certificates_revoked)
+
+
+def stored_days(session: Session, zone: tzinfo) -> int:
+    return session.scalar(select(func.count()).where(StatisticsDay.zone == zone_name(zone))) or 0
+
+
+@pytest.mark.parametrize("zone", [LAGOS, NEW_YORK, KOLKATA, UTC], ids=str)
+@pytest.mark.usefixtures("history")
+def test_stored_counts_agree_with_a_full_count(session: Session, zone: tzinfo) -> None:
+    expected = full_count(session, PERIOD, zone)
+    assert expected.total.inspections > 0
+
+    first_visit = statistics(session, period=PERIOD, zone=zone, now=AFTER_THE_PERIOD)
+    second_visit = statistics(session, period=PERIOD, zone=zone, now=AFTER_THE_PERIOD)
+
+    same(first_visit, expected)
+    same(second_visit, expected)
+    assert stored_days(session, zone) == PERIOD.days, "every closed day stored once, empty ones too"
+    assert first_visit.certificates_issued + first_visit.refusals_issued == 3
+    assert first_visit.certificates_revoked == 1
+
+
+@pytest.mark.usefixtures("history")
+def test_the_station_filter_reads_the_same_stored_days(session: Session) -> None:
+    statistics(session, period=PERIOD, zone=KOLKATA, now=AFTER_THE_PERIOD)  # stores every day
+    for station in session.scalars(select(Station)):
+        expected = full_count(session, PERIOD, KOLKATA, station_id=station.id)
+
+        found = statistics(session, period=PERIOD, zone=KOLKATA, station_id=station.id, now=AFTER_THE_PERIOD)
+
+        same(found, expected)
+        assert [s.station for s in found.stations] == [station.name]
+
+
+def test_across_midnight_in_the_display_zone(session: Session, store: Store) -> None:
+    store(at(6, 22, 50), compliant=True)  # 23:50 on 6 March in Lagos
+    store(at(6, 23, 10), compliant=False)  # 00:10 on 7 March
+    period = Period(date(2026, 3, 5), date(2026, 3, 7))
+
+    just_after_midnight = statistics(session, period=period, zone=LAGOS, now=at(6, 23, 30))
+    assert stored_days(session, LAGOS) == 1, "6 March is not closed until an hour after midnight"
+    same(just_after_midnight, full_count(session, period, LAGOS))
+
+    later = statistics(session, period=period, zone=LAGOS, now=at(7, 0, 30))
+    assert stored_days(session, LAGOS) == 2, "6 March closed at 01:00 in Lagos"
+    same(later, full_count(session, period, LAGOS))
+
+    store(at(7, 0, 40), compliant=True)  # today in Lagos, after 6 March was stored
+    today_grows = statistics(session, period=period, zone=LAGOS, now=at(7, 0, 45))
+    same(today_grows, full_count(session, period, LAGOS))
+    assert [d.counts.inspections for d in today_grows.days] == [0, 1, 2]
+
+
+@pytest.mark.usefixtures("history")
+def test_across_a_change_of_zone(session: Session) -> None:
+    for zone in (LAGOS, KOLKATA, NEW_YORK, LAGOS):
+        found = statistics(session, period=PERIOD, zone=zone, now=AFTER_THE_PERIOD)
+
+        same(found, full_count(session, PERIOD, zone))
+    assert len(session.scalars(select(StatisticsDay.zone).distinct()).all()) == 3, "one set of days per zone"
+
+
+@pytest.mark.usefixtures("history")
+def test_concurrent_requests_store_each_day_once(engine: Engine, session: Session) -> None:
+    counted: list[int] = []
+    start = threading.Barrier(4)
+
+    def visit() -> None:
+        with db.get_sessionmaker()() as own:
+            start.wait()
+            counted.append(count_closed_days(own, zone=NEW_YORK, first=PERIOD.first, last=PERIOD.last))
+
+    threads = [threading.Thread(target=visit) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+
+    assert sum(counted) == PERIOD.days
+    same(
+        statistics(session, period=PERIOD, zone=NEW_YORK, now=AFTER_THE_PERIOD),
+        full_count(session, PERIOD, NEW_YORK),
+    )
+
+
+@pytest.mark.usefixtures("history")
+def test_a_day_counted_over_other_bounds_is_counted_again(session: Session, owner_engine: Engine) -> None:
+    statistics(session, period=PERIOD, zone=LAGOS, now=AFTER_THE_PERIOD)
+    day = date(2026, 3, 6)
+    with owner_engine.begin() as connection:  # as if the zone's rules had changed since it was counted
+        connection.execute(
+            update(StatisticsDay)
+            .where(StatisticsDay.day == day)
+            .values(starts_at=at(5, 22), certificates_issued=99)
+        )
+        connection.execute(
+            update(StatisticsDayStation).where(StatisticsDayStation.day == day).values(inspections=99)
+        )
+
+    found = statistics(session, period=PERIOD, zone=LAGOS, now=AFTER_THE_PERIOD)
+
+    same(found, full_count(session, PERIOD, LAGOS))
+
+
+def test_the_nightly_command_stores_the_closed_days(
+    session: Session, store: Store, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from app.cli import main as trikecert
+    from app.db import utcnow
+
+    store(utcnow() - timedelta(days=3), compliant=True)
+
+    assert trikecert(["count-statistics", "--days", "5"]) == 0
+    assert "counted 5 closed day(s)" in capsys.readouterr().out
+    assert trikecert(["count-statistics", "--days", "5"]) == 0
+    assert "counted 0 closed day(s)" in capsys.readouterr().out, "stored once"
+
+    today = datetime.now(UTC).date()
+    period = Period(today - timedelta(days=6), today)
+    same(statistics(session, period=period, zone=UTC), full_count(session, period, UTC))
+    assert statistics(session, period=period, zone=UTC).total.inspections == 1
