@@ -14,6 +14,7 @@ from app.db import Base
 from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stations.models import Station, StationRateWindow
+from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
 
@@ -39,4 +40,5 @@ __all__ = [
     "User",
     "UserSession",
     "Vehicle",
+    "VehicleDynamicsRevision",
 ]

@@ -26,6 +26,7 @@ from app.audit.models import AuditEvent
 from app.certificates.models import Certificate, CertificateRevocation, SigningKey
 from app.db import utcnow
 from app.stations.models import Station
+from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain
@@ -82,6 +83,9 @@ AUDITED: dict[type[Any], Audited] = {
     ),
     Station: Audited("station", ("name", "active"), lambda r: r.id, frozenset({"key_hash"})),
     Vehicle: Audited("vehicle", ("registration_number", "make", "model"), lambda r: r.registration_number),
+    VehicleDynamicsRevision: Audited(
+        "vehicle", ("revision", *DYNAMICS_FIELDS, "seat_heights_m"), lambda r: r.vehicle.registration_number
+    ),
     SigningKey: Audited(
         "signing_key", ("kid", "source", "active"), lambda r: r.kid, frozenset({"private_pem"})
     ),
@@ -105,6 +109,8 @@ def _created(record: Any, audited: Audited) -> tuple[str, dict[str, Any]]:
         return ("refusal" if record.kind == "refusal" else "certificate") + ".issued", details
     if isinstance(record, CertificateRevocation):
         return "certificate.revoked", details
+    if isinstance(record, VehicleDynamicsRevision):
+        return "vehicle.dynamics_recorded", details
     return f"{audited.target_type}.created", details
 
 

@@ -82,6 +82,7 @@ class DynamicsInput:
     cg_lift: AxleLift | None = None
     cg_height_m: float | None = None  # given directly instead of the lift
     has_load_items: bool = False  # their heights are unknown: no case CG height then
+    weighed_total_kg: float | None = None  # the weighing's W when load items make case 0 heavier
 
 
 @dataclass(frozen=True)
@@ -182,18 +183,10 @@ def check_vehicle(vehicle: VehicleDynamics) -> None:
             check_seat_height(z, f"seats[{index}].z_m")
 
 
-def cg_height_by_axle_lift(
-    *,
-    wheelbase_m: float,
-    total_kg: float,
-    front_level_kg: float,
-    lift: AxleLift,
-    wheel_radius_m: float,
-) -> float:
-    """The empty vehicle's CG height h = r + WB (F_0 - F_phi) / (W tan phi), sin phi = H / WB."""
+def check_axle_lift(lift: AxleLift, *, wheelbase_m: float, front_level_kg: float) -> None:
+    """Refuse a lift of no height or as high as the wheelbase, or a raised reading not below the level one."""
     check_value(lift.lift_height_m, "cg_lift.lift_height_m")
     check_value(lift.front_kg, "cg_lift.front_kg")
-    check_value(wheel_radius_m, "wheel_radius_m")
     if lift.lift_height_m >= wheelbase_m:
         raise StabilityError(
             "cg_lift.lift_height_m",
@@ -209,6 +202,19 @@ def cg_height_by_axle_lift(
             f"({_g(front_level_kg)} kg), since the CG lies above the wheel centres; "
             f"got {_g(lift.front_kg)} kg. Weigh the raised wheel again",
         )
+
+
+def cg_height_by_axle_lift(
+    *,
+    wheelbase_m: float,
+    total_kg: float,
+    front_level_kg: float,
+    lift: AxleLift,
+    wheel_radius_m: float,
+) -> float:
+    """The empty vehicle's CG height h = r + WB (F_0 - F_phi) / (W tan phi), sin phi = H / WB."""
+    check_axle_lift(lift, wheelbase_m=wheelbase_m, front_level_kg=front_level_kg)
+    check_value(wheel_radius_m, "wheel_radius_m")
     tan_phi = math.tan(math.asin(lift.lift_height_m / wheelbase_m))
     return wheel_radius_m + wheelbase_m * (front_level_kg - lift.front_kg) / (total_kg * tan_phi)
 
@@ -324,12 +330,13 @@ def _empty_cg_height(data: DynamicsInput, empty: CaseLoad, missing: list[str]) -
     if data.cg_lift is None:
         missing.append("cg_lift or cg_height_m")
         return None
+    check_axle_lift(data.cg_lift, wheelbase_m=data.wheelbase_m, front_level_kg=data.front_level_kg)
     if radius is None:
         missing.append("wheel_radius_m")
         return None
     return cg_height_by_axle_lift(
         wheelbase_m=data.wheelbase_m,
-        total_kg=empty.total_kg,
+        total_kg=data.weighed_total_kg or empty.total_kg,
         front_level_kg=data.front_level_kg,
         lift=data.cg_lift,
         wheel_radius_m=radius,

@@ -33,6 +33,7 @@ PROTECTED = {
     "certificate_revocation": ("reason", "'rewritten'"),
     "certificate_audit": ("actor", "'someone else'"),
     "audit_event": ("actor_label", "'someone else'"),
+    "vehicle_dynamics_revision": ("track_m", "2"),
 }
 
 

@@ -36,6 +36,7 @@ PROTECTED = {
     "certificate_audit": "actor",
     "audit_event": "action",
     "signing_key": "kid",
+    "vehicle_dynamics_revision": "track_m",
 }
 TAMPERING = [
     "UPDATE {table} SET {column} = {column}",
