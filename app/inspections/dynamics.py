@@ -14,8 +14,9 @@ from typing import Any
 from sqlalchemy.orm import Session
 
 from app.errors import InvalidInput
-from app.stability import Assessment, StabilityError
+from app.stability import Assessment, Seat, StabilityError
 from app.stability.dynamics import (
+    BOUNDS,
     AxleLift,
     CaseLoad,
     Dynamics,
@@ -23,6 +24,7 @@ from app.stability.dynamics import (
     VehicleDynamics,
     assess_dynamics,
 )
+from app.stability.validation import check_number
 from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.dynamics_service import core_figures, current_revision, revision_figures
 from app.vehicles.models import Vehicle
@@ -62,14 +64,18 @@ def figures_for_inspection(
     result: Assessment,
     cg_lift: CgLift | None,
     cg_height_m: Decimal | None,
-    own_seats: bool,
+    seats: Sequence[Seat] | None,
     has_load_items: bool,
 ) -> StoredFigures:
     """Check the CG-height weighing against the vehicle's figures in force (422 naming the field).
 
-    An inspection with its own seat layout has no seat heights: the vehicle's are for its own seats.
+    An inspection with a seat layout of its own has no seat heights: the vehicle's are for its seats.
     """
+    _check_precision(cg_lift, cg_height_m)
     revision = current_revision(session, vehicle.id)
+    own_seats = seats is not None and [(s.role, s.x_m) for s in seats] != [
+        (s.role, s.x_m) for s in vehicle.seats
+    ]
     heights = [] if own_seats else list(revision.seat_heights_m if revision else [])
     stored = {
         "cg_lift": None
@@ -94,6 +100,34 @@ def figures_for_inspection(
         raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
     columns = {"dynamics_revision_id": revision.id if revision else None, "dynamics_input": stored}
     return StoredFigures(columns, revision)
+
+
+def _check_precision(cg_lift: CgLift | None, cg_height_m: Decimal | None) -> None:
+    """Refuse a CG-height weighing out of range or given more finely than it is kept (as the API does)."""
+    checks: list[tuple[Decimal, str, str, int, str]] = []
+    if cg_lift is not None:
+        checks.append((cg_lift.lift_height_m, "cg_lift.lift_height_m", "lift height", 4, "m"))
+        many = len(cg_lift.front_kg) > 1
+        checks += [
+            (v, f"cg_lift.front_kg[{i}]" if many else "cg_lift.front_kg", "raised front reaction", 3, "kg")
+            for i, v in enumerate(cg_lift.front_kg)
+        ]
+    if cg_height_m is not None:
+        checks.append((cg_height_m, "cg_height_m", "centre of gravity height", 4, "m"))
+    try:
+        for value, name, what, places, unit in checks:
+            low, high, _ = BOUNDS[name.split("[")[0]]
+            check_number(
+                value,
+                field=name,
+                minimum=Decimal(str(low)),
+                maximum=Decimal(str(high)),
+                decimals=places,
+                what=what,
+                unit=unit,
+            )
+    except StabilityError as error:
+        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
 
 
 def dynamics_input(

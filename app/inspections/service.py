@@ -121,7 +121,7 @@ def record_inspection(
         result=result,
         cg_lift=request.cg_lift,
         cg_height_m=request.cg_height_m,
-        own_seats=request.seats is not None,
+        seats=request.seats,
         has_load_items=bool(request.load_items),
     )
     begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn

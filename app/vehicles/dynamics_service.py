@@ -15,6 +15,17 @@ from app.stability.dynamics import VehicleDynamics, check_vehicle
 from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
+# Decimal places each figure is stored to (metres to 0.1 mm, stiffness to 0.1 N/rad).
+PLACES = {
+    "track_m": 4,
+    "wheel_radius_m": 4,
+    "front_cornering_stiffness_n_per_rad": 1,
+    "rear_cornering_stiffness_n_per_rad": 1,
+    "drag_area_m2": 4,
+    "centre_of_pressure_height_m": 4,
+    "seat_heights_m": 4,
+}
+
 
 @dataclass(frozen=True)
 class DynamicsFigures:
@@ -53,6 +64,14 @@ def check_figures(figures: DynamicsFigures, *, seat_count: int) -> None:
         check_vehicle(core_figures(figures))
     except StabilityError as error:
         raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
+    named = [(name, getattr(figures, name), PLACES[name]) for name in DYNAMICS_FIELDS]
+    named += [(f"seats[{i}].z_m", z, PLACES["seat_heights_m"]) for i, z in enumerate(figures.seat_heights_m)]
+    for name, value, places in named:
+        exponent = value.as_tuple().exponent if value is not None else 0
+        if isinstance(exponent, int) and -exponent > places:
+            raise InvalidInput(
+                f"{name}: give it to at most {places} decimal places", field=name, rule="precision"
+            )
 
 
 def new_revision(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -> VehicleDynamicsRevision:

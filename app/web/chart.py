@@ -52,6 +52,20 @@ def _text(x: float, y: float, content: str, *, anchor: str = "middle", size: int
     )
 
 
+def _opening(chart_id: str, title: str, description: str) -> str:
+    """The svg element's start, its title and its text alternative (both charts)."""
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
+        f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">'
+        f'<title id="{chart_id}-title">{escape(title)}</title>'
+        f'<desc id="{chart_id}-desc">{escape(description)}</desc>'
+    )
+
+
+def _frame(x: float, y: float, w: float, h: float) -> str:
+    return f'<rect x="{x}" y="{y}" width="{w}" height="{h}" fill="none" stroke="#505a5f"/>'
+
+
 def _marker(x: float, y: float, compliant: bool) -> str:
     if compliant:
         return (
@@ -91,10 +105,7 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
 
     limit_y = y_of(LIMIT)
     parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
-        f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">',
-        f'<title id="{chart_id}-title">{escape(TITLE)}</title>',
-        f'<desc id="{chart_id}-desc">{escape(describe(points))}</desc>',
+        _opening(chart_id, TITLE, describe(points)),
         f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
         'fill="#fbe3df"/>',
         _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
@@ -113,9 +124,7 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
     parts.append(
         _text(LEFT + plot_w + 6, limit_y + 5, "limit 2/3", anchor="start", size=16, cls="chart__limit-label")
     )
-    parts.append(
-        f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="none" stroke="#505a5f"/>'
-    )
+    parts.append(_frame(LEFT, TOP, plot_w, plot_h))
     if len(points) > 1:
         line = " ".join(f"{x_of(i):.1f},{y_of(p.lsf):.1f}" for i, p in enumerate(points))
         parts.append(f'<polyline points="{line}" fill="none" stroke="#505a5f" stroke-width="1.5"/>')
@@ -135,4 +144,131 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
     )
     parts.append("</svg>")
     # Every piece of text above went through escape(); the rest is markup built here from numbers.
+    return Markup("".join(parts))  # noqa: S704
+
+
+# The stability map: each case at (LSF, rollover threshold), with the same markers and labels.
+MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"
+MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 44, 60  # the top margin holds the legend
+
+
+@dataclass(frozen=True)
+class MapPoint:
+    """One loading case on the stability map (estimates: its rollover threshold rests on assumed inputs)."""
+
+    short_label: str
+    long_label: str
+    lsf: float
+    rollover_g: float
+    compliant: bool
+
+
+def map_range(values: Sequence[float], *, low: float, high: float, step: float) -> tuple[float, float]:
+    """An axis from `low` to `high`, widened in whole steps to hold every value with a margin."""
+    least = min([low, *(v - step / 2 for v in values)])
+    most = max([high, *(v + step / 2 for v in values)])
+    return math.floor(round(least / step, 6)) * step, math.ceil(round(most / step, 6)) * step
+
+
+def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> str:
+    """The map's text alternative: every case's LSF, threshold and verdict, and the lines."""
+    cases = "; ".join(
+        f"{p.long_label}: LSF {p.lsf:.3f}, rollover threshold {p.rollover_g:.3f} g, "
+        f"{'C (compliant)' if p.compliant else 'NC (not compliant)'}"
+        for p in points
+    )
+    minimum = (
+        f" The minimum rollover threshold is {min_rollover_g:.2f} g; a case below that line tips too easily."
+        if min_rollover_g is not None
+        else ""
+    )
+    return (
+        f"Each loading case's LSF (across) against its estimated rollover threshold (up). Right of the "
+        f"2/3 line ({LIMIT_TEXT}) a case is yaw-unstable.{minimum} {cases}."
+    )
+
+
+def stability_map(
+    points: Sequence[MapPoint], *, min_rollover_g: float | None = None, chart_id: str = "stability-map"
+) -> Markup:
+    """The stability map as an SVG element: the 2/3 line, a minimum rollover line when one is set."""
+    x_low, x_high = map_range([p.lsf for p in points], low=0.55, high=0.8, step=STEP)
+    thresholds = [p.rollover_g for p in points] + ([min_rollover_g] if min_rollover_g is not None else [])
+    y_low, y_high = map_range(thresholds, low=0.5, high=0.9, step=0.1)
+    plot_w, plot_h = WIDTH - MAP_LEFT - MAP_RIGHT, HEIGHT - MAP_TOP - MAP_BOTTOM
+
+    def x_of(value: float) -> float:
+        return MAP_LEFT + (value - x_low) / (x_high - x_low) * plot_w
+
+    def y_of(value: float) -> float:
+        return MAP_TOP + (y_high - value) / (y_high - y_low) * plot_h
+
+    limit_x = x_of(LIMIT)
+    parts = [
+        _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g)),
+        f'<rect class="chart__unstable" x="{limit_x:.1f}" y="{MAP_TOP}" '
+        f'width="{MAP_LEFT + plot_w - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
+        _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", size=16, cls="chart__region"),
+    ]
+    if min_rollover_g is not None:
+        min_y = y_of(min_rollover_g)
+        parts.append(
+            f'<rect class="chart__tips" x="{MAP_LEFT}" y="{min_y:.1f}" width="{plot_w}" '
+            f'height="{MAP_TOP + plot_h - min_y:.1f}" fill="#fff2cc" fill-opacity="0.7"/>'
+        )
+    for i in range(round((x_high - x_low) / STEP) + 1):
+        value = x_low + i * STEP
+        x = x_of(value)
+        parts.append(
+            f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{MAP_TOP}" y2="{MAP_TOP + plot_h}" stroke="#d0d3d4"/>'
+        )
+        parts.append(_text(x, MAP_TOP + plot_h + 22, f"{value:.2f}", size=15))
+    for i in range(round((y_high - y_low) / 0.1) + 1):
+        value = y_low + i * 0.1
+        y = y_of(value)
+        parts.append(
+            f'<line x1="{MAP_LEFT}" x2="{MAP_LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>'
+        )
+        parts.append(_text(MAP_LEFT - 8, y + 5, f"{value:.1f}", anchor="end", size=15))
+    parts.append(
+        f'<line class="chart__limit" x1="{limit_x:.1f}" x2="{limit_x:.1f}" y1="{MAP_TOP}" '
+        f'y2="{MAP_TOP + plot_h}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
+    )
+    parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", size=15, cls="chart__limit-label"))
+    if min_rollover_g is not None:
+        parts.append(
+            f'<line class="chart__min-rollover" x1="{MAP_LEFT}" x2="{MAP_LEFT + plot_w}" y1="{min_y:.1f}" '
+            f'y2="{min_y:.1f}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="2 4"/>'
+        )
+        parts.append(
+            _text(
+                MAP_LEFT + 6,
+                min_y - 6,
+                f"minimum {min_rollover_g:.2f} g",
+                anchor="start",
+                size=15,
+                cls="chart__limit-label",
+            )
+        )
+    parts.append(_frame(MAP_LEFT, MAP_TOP, plot_w, plot_h))
+    for point in points:
+        x, y = x_of(point.lsf), y_of(point.rollover_g)
+        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
+        parts.append(_marker(x, y, point.compliant))
+        parts.append(_text(x, y - 12, point.short_label, size=14, cls="chart__verdict"))
+        parts.append("</g>")
+    # The legend says what the shapes mean, so neither colour nor shape stands alone.
+    parts.append(_marker(MAP_LEFT + 8, 14, True))
+    parts.append(_text(MAP_LEFT + 22, 19, "C compliant", anchor="start", size=15))
+    parts.append(_marker(MAP_LEFT + 140, 14, False))
+    parts.append(_text(MAP_LEFT + 154, 19, "NC not compliant", anchor="start", size=15))
+    parts.append(
+        _text(MAP_LEFT + plot_w / 2, HEIGHT - 8, "LSF (share of weight on the rear wheels)", size=16)
+    )
+    parts.append(
+        f'<text x="16" y="{MAP_TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="16" '
+        f'transform="rotate(-90 16 {MAP_TOP + plot_h / 2:.1f})">Rollover threshold (g)</text>'
+    )
+    parts.append("</svg>")
+    # As above: every text went through escape(); the rest is markup built here from numbers.
     return Markup("".join(parts))  # noqa: S704
