@@ -27,6 +27,7 @@ from app.web.chart import MapPoint, short_label, stability_map
 class EstimateRow:
     """One loading case's estimates in words, for a table row."""
 
+    occupants: int
     label: str
     compliant: bool
     lsf: float
@@ -61,6 +62,7 @@ def estimates(inspection: Inspection) -> Estimates:
         lsf = float(case.lsf)
         rows.append(
             EstimateRow(
+                occupants=case.occupants,
                 label=case_label(case.occupants),
                 compliant=case.compliant,
                 lsf=lsf,

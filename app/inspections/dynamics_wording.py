@@ -53,15 +53,15 @@ def figure_text(value: float | Decimal | None, places: int, unit: str = "") -> s
     if value is None:
         return UNKNOWN
     text = fixed(value, places)
-    return f"{text} {unit}".strip()
+    return f"{text}{unit}" if unit == "°" else f"{text} {unit}".strip()
 
 
 def critical_speed_text(critical_kmh: float | None, margin: float | None) -> str:
-    """'113.8 km/h', 'None: it understeers at every speed', or 'Not known'."""
+    """'113.8 km/h', 'None (understeers)': stable at every speed, or 'Not known'."""
     if margin is None:
         return UNKNOWN
     if critical_kmh is None:
-        return "None: it understeers at every speed"
+        return "None (understeers)"
     return figure_text(critical_kmh, 1, "km/h")
 
 

@@ -2,6 +2,9 @@
 
 x: the loading cases; y: LSF; a line at 2/3 labelled "limit 2/3" with the region above it shaded
 "unstable"; compliant cases are circles marked C, non-compliant ones crosses marked NC.
+
+The stability map (estimates) puts each case at (LSF, rollover threshold) with the same markers:
+the 2/3 line across, a regulator's minimum rollover threshold as a line when one is set.
 """
 
 from __future__ import annotations
@@ -150,6 +153,7 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
 # The stability map: each case at (LSF, rollover threshold), with the same markers and labels.
 MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"
 MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 44, 60  # the top margin holds the legend
+MAP_X_STEP, MAP_Y_STEP = 0.05, 0.1
 
 
 @dataclass(frozen=True)
@@ -163,11 +167,53 @@ class MapPoint:
     compliant: bool
 
 
+@dataclass(frozen=True)
+class MapGeometry:
+    """The map computed once from the data, in unit coordinates (0 left/bottom, 1 right/top): the SVG
+    and the PDF only draw it."""
+
+    x_ticks: tuple[tuple[float, str], ...]
+    y_ticks: tuple[tuple[float, str], ...]
+    limit_x: float
+    min_rollover: tuple[float, str] | None  # where its line runs and its label
+    points: tuple[tuple[float, float, MapPoint], ...]
+
+
 def map_range(values: Sequence[float], *, low: float, high: float, step: float) -> tuple[float, float]:
     """An axis from `low` to `high`, widened in whole steps to hold every value with a margin."""
     least = min([low, *(v - step / 2 for v in values)])
     most = max([high, *(v + step / 2 for v in values)])
     return math.floor(round(least / step, 6)) * step, math.ceil(round(most / step, 6)) * step
+
+
+def map_geometry(points: Sequence[MapPoint], min_rollover_g: float | None) -> MapGeometry:
+    """Axes of about 0.55-0.8 (LSF) and 0.5-0.9 g, widened to hold every point and the minimum line."""
+    x_low, x_high = map_range([p.lsf for p in points], low=0.55, high=0.8, step=MAP_X_STEP)
+    thresholds = [p.rollover_g for p in points] + ([min_rollover_g] if min_rollover_g is not None else [])
+    y_low, y_high = map_range(thresholds, low=0.5, high=0.9, step=MAP_Y_STEP)
+
+    def across(value: float) -> float:
+        return (value - x_low) / (x_high - x_low)
+
+    def up(value: float) -> float:
+        return (value - y_low) / (y_high - y_low)
+
+    x_ticks = tuple(
+        (across(x_low + i * MAP_X_STEP), f"{x_low + i * MAP_X_STEP:.2f}")
+        for i in range(round((x_high - x_low) / MAP_X_STEP) + 1)
+    )
+    y_ticks = tuple(
+        (up(y_low + i * MAP_Y_STEP), f"{y_low + i * MAP_Y_STEP:.1f}")
+        for i in range(round((y_high - y_low) / MAP_Y_STEP) + 1)
+    )
+    minimum = None if min_rollover_g is None else (up(min_rollover_g), f"minimum {min_rollover_g:.2f} g")
+    return MapGeometry(
+        x_ticks=x_ticks,
+        y_ticks=y_ticks,
+        limit_x=across(LIMIT),
+        min_rollover=minimum,
+        points=tuple((across(p.lsf), up(p.rollover_g), p) for p in points),
+    )
 
 
 def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> str:
@@ -192,70 +238,66 @@ def stability_map(
     points: Sequence[MapPoint], *, min_rollover_g: float | None = None, chart_id: str = "stability-map"
 ) -> Markup:
     """The stability map as an SVG element: the 2/3 line, a minimum rollover line when one is set."""
-    x_low, x_high = map_range([p.lsf for p in points], low=0.55, high=0.8, step=STEP)
-    thresholds = [p.rollover_g for p in points] + ([min_rollover_g] if min_rollover_g is not None else [])
-    y_low, y_high = map_range(thresholds, low=0.5, high=0.9, step=0.1)
+    geometry = map_geometry(points, min_rollover_g)
     plot_w, plot_h = WIDTH - MAP_LEFT - MAP_RIGHT, HEIGHT - MAP_TOP - MAP_BOTTOM
+    right, bottom = MAP_LEFT + plot_w, MAP_TOP + plot_h
 
-    def x_of(value: float) -> float:
-        return MAP_LEFT + (value - x_low) / (x_high - x_low) * plot_w
+    def x_of(across: float) -> float:
+        return MAP_LEFT + across * plot_w
 
-    def y_of(value: float) -> float:
-        return MAP_TOP + (y_high - value) / (y_high - y_low) * plot_h
+    def y_of(up: float) -> float:
+        return bottom - up * plot_h
 
-    limit_x = x_of(LIMIT)
+    limit_x = x_of(geometry.limit_x)
     parts = [
         _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g)),
         f'<rect class="chart__unstable" x="{limit_x:.1f}" y="{MAP_TOP}" '
-        f'width="{MAP_LEFT + plot_w - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
+        f'width="{right - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
         _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", size=16, cls="chart__region"),
     ]
-    if min_rollover_g is not None:
-        min_y = y_of(min_rollover_g)
+    if geometry.min_rollover is not None:
+        min_y = y_of(geometry.min_rollover[0])
         parts.append(
             f'<rect class="chart__tips" x="{MAP_LEFT}" y="{min_y:.1f}" width="{plot_w}" '
-            f'height="{MAP_TOP + plot_h - min_y:.1f}" fill="#fff2cc" fill-opacity="0.7"/>'
+            f'height="{bottom - min_y:.1f}" fill="#fff2cc" fill-opacity="0.7"/>'
         )
-    for i in range(round((x_high - x_low) / STEP) + 1):
-        value = x_low + i * STEP
-        x = x_of(value)
-        parts.append(
-            f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{MAP_TOP}" y2="{MAP_TOP + plot_h}" stroke="#d0d3d4"/>'
-        )
-        parts.append(_text(x, MAP_TOP + plot_h + 22, f"{value:.2f}", size=15))
-    for i in range(round((y_high - y_low) / 0.1) + 1):
-        value = y_low + i * 0.1
-        y = y_of(value)
-        parts.append(
-            f'<line x1="{MAP_LEFT}" x2="{MAP_LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>'
-        )
-        parts.append(_text(MAP_LEFT - 8, y + 5, f"{value:.1f}", anchor="end", size=15))
+    for across, label in geometry.x_ticks:
+        x = x_of(across)
+        parts.append(f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{MAP_TOP}" y2="{bottom}" stroke="#d0d3d4"/>')
+        parts.append(_text(x, bottom + 22, label, size=15))
+    for up, label in geometry.y_ticks:
+        y = y_of(up)
+        parts.append(f'<line x1="{MAP_LEFT}" x2="{right}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
+        parts.append(_text(MAP_LEFT - 8, y + 5, label, anchor="end", size=15))
     parts.append(
         f'<line class="chart__limit" x1="{limit_x:.1f}" x2="{limit_x:.1f}" y1="{MAP_TOP}" '
-        f'y2="{MAP_TOP + plot_h}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
+        f'y2="{bottom}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
     parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", size=15, cls="chart__limit-label"))
-    if min_rollover_g is not None:
+    if geometry.min_rollover is not None:
+        min_y = y_of(geometry.min_rollover[0])
         parts.append(
-            f'<line class="chart__min-rollover" x1="{MAP_LEFT}" x2="{MAP_LEFT + plot_w}" y1="{min_y:.1f}" '
+            f'<line class="chart__min-rollover" x1="{MAP_LEFT}" x2="{right}" y1="{min_y:.1f}" '
             f'y2="{min_y:.1f}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="2 4"/>'
         )
         parts.append(
             _text(
                 MAP_LEFT + 6,
                 min_y - 6,
-                f"minimum {min_rollover_g:.2f} g",
+                geometry.min_rollover[1],
                 anchor="start",
                 size=15,
                 cls="chart__limit-label",
             )
         )
     parts.append(_frame(MAP_LEFT, MAP_TOP, plot_w, plot_h))
-    for point in points:
-        x, y = x_of(point.lsf), y_of(point.rollover_g)
+    for across, up, point in geometry.points:
+        x, y = x_of(across), y_of(up)
         parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
         parts.append(_marker(x, y, point.compliant))
-        parts.append(_text(x, y - 12, point.short_label, size=14, cls="chart__verdict"))
+        # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
+        label_y = y + 25 if bottom - y > 30 else y - 12
+        parts.append(_text(x, label_y, point.short_label, size=14, cls="chart__verdict"))
         parts.append("</g>")
     # The legend says what the shapes mean, so neither colour nor shape stands alone.
     parts.append(_marker(MAP_LEFT + 8, 14, True))

@@ -110,11 +110,11 @@ def test_the_inspection_page_shows_the_estimates_beside_their_inputs_and_the_map
     for figure in (
         "0.5503 m",
         "0.7277 g",
-        "36.04 °",
+        "36.04°",
         "113.8 km/h",
         "0.6480 g",
         "427.9 N·m/rad",
-        "understeers at every speed",
+        "None (understeers)",
         "70.0 km/h",
     ):
         assert figure in table
