@@ -55,7 +55,7 @@ def read_dynamics(
     session: SessionDep,
     station: StationDep,
     speed_kmh: Annotated[
-        float, Query(ge=0, le=200, allow_inf_nan=False, description="Road speed (km/h), e.g. 60.")
+        float, Query(ge=0, le=200, allow_inf_nan=False, description="Road speed (km/h).", examples=[60])
     ] = 0.0,
     acceleration_ms2: Annotated[
         float,
@@ -64,6 +64,7 @@ def read_dynamics(
             le=10,
             allow_inf_nan=False,
             description="Forward acceleration (m/s²); braking is negative.",
+            examples=[1.5],
         ),
     ] = 0.0,
 ) -> DynamicsOut:
