@@ -7,9 +7,10 @@ from dataclasses import dataclass
 from decimal import Decimal
 
 from sqlalchemy import func, select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from app.errors import InvalidInput
+from app.errors import Conflict, InvalidInput
 from app.stability import StabilityError
 from app.stability.dynamics import VehicleDynamics, check_vehicle
 from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
@@ -100,7 +101,15 @@ def new_revision(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -
 def record_figures(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -> VehicleDynamicsRevision:
     """Store a new revision of the vehicle's figures and commit; the older ones stay as they were."""
     revision = new_revision(session, vehicle, figures)
-    session.commit()
+    try:
+        session.commit()
+    except IntegrityError as error:  # a simultaneous change took the same revision number
+        session.rollback()
+        raise Conflict(
+            "track_m: someone else changed the figures at the same moment; look at them and send again",
+            field="track_m",
+            rule="concurrent_change",
+        ) from error
     return revision
 
 

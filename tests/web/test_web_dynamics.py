@@ -15,6 +15,7 @@ from app.audit.models import AuditEvent
 from app.config import get_settings
 from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
+from app.web.chart import MapPoint, map_geometry
 from web.webtools import STUDY_READINGS, post_form
 
 FIGURES_URL = "/vehicles/BDG252QH/dynamics"
@@ -179,3 +180,16 @@ def test_a_raised_reading_heavier_than_level_comes_back_beside_its_box(
     answer = post_form(web, FORM_URL, FORM_URL, {**STUDY_READINGS, "cg_front_kg_1": "94.8"})
     assert answer.status_code == 422
     assert "how far the front wheel was raised" in text_of(answer.text, "cg_lift_height_m-error")
+
+
+def test_the_map_widens_its_axes_to_hold_every_point_and_the_minimum_line() -> None:
+    points = [MapPoint("None", "None", 0.52, 0.45, True), MapPoint("Driver", "Driver", 0.83, 0.7, False)]
+    geometry = map_geometry(points, 1.05)
+    assert geometry.x_ticks[0][1] == "0.45"
+    assert geometry.x_ticks[-1][1] == "0.90"
+    assert geometry.y_ticks[0][1] == "0.4"
+    assert geometry.y_ticks[-1][1] == "1.1"
+    assert geometry.min_rollover is not None
+    assert all(0 < across < 1 and 0 < up < 1 for across, up, _ in geometry.points)
+    assert 0 < geometry.min_rollover[0] < 1
+    assert 0 < geometry.limit_x < 1
