@@ -43,6 +43,7 @@ class CaseLoad:
     occupants: int
     total_kg: float
     rear_kg: float
+    compliant: bool | None = None  # the exact static verdict, when known: floats never overrule it
 
     @property
     def lsf(self) -> float:
@@ -387,7 +388,7 @@ def margin_speed_ms(
 ) -> float | None:
     """U = sqrt(2 (2/3 W - R) g WB / (rho Cd A h_cp)): drag alone uses up the margin; None if none."""
     margin_kg = LSF_LIMIT * case.total_kg - case.rear_kg
-    if margin_kg <= 0:
+    if margin_kg <= 0 or case.compliant is False:
         return None
     return math.sqrt(
         2 * margin_kg * G * wheelbase_m / (air_density_kg_m3 * drag_area_m2 * centre_of_pressure_height_m)
@@ -429,6 +430,8 @@ def at_speed(
             air_density_kg_m3=air_density_kg_m3,
         )
         lsf = (case.rear_kg + moved) / case.total_kg
+        # Nothing moved (standing still): the exact static verdict, not a float comparison at 2/3.
+        compliant = case.compliant if moved == 0 and case.compliant is not None else lsf < LSF_LIMIT
         margin = margin_speed_ms(
             wheelbase_m=data.wheelbase_m,
             case=case,
@@ -440,7 +443,7 @@ def at_speed(
             CaseAtSpeed(
                 occupants=case.occupants,
                 lsf_at_speed=lsf,
-                compliant_at_speed=lsf < LSF_LIMIT,
+                compliant_at_speed=compliant,
                 margin_speed_kmh=None if margin is None else margin * KMH_PER_MS,
             )
         )

@@ -172,7 +172,10 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     - a measured case against the number of seats (range on measured_cases[i].occupants,
       recomputed here) or measured twice (duplicate);
     - a loading case that would lift the front or rear wheels (the study's moment arithmetic over
-      readings, seats, masses and wheelbase together).
+      readings, seats, masses and wheelbase together);
+    - the axle-lift weighing for the estimates: the raised front reading not below the level one
+      (less_than_level), a lift not below the wheelbase (below_wheelbase), or both a lift and a CG
+      height given (one_of), each recomputed here.
     """
     field, rule = problem.get("field", ""), problem.get("rule", "")
     if rule == "sum_tolerance":
@@ -188,6 +191,13 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     if rule == "spread":  # repeated readings of one wheel that disagree: the scale had not settled
         values = [_decimal(v) for v in _at(body, field)]
         return max(values) - min(values) > Fraction(SCALE.max_spread_kg)
+    if rule == "less_than_level":
+        return _mean(body["cg_lift"]["front_kg"]) >= _mean(body["readings"]["front_kg"])
+    if rule == "below_wheelbase":
+        wheelbase = _decimal(body.get("wheelbase_m") or STUDY_VEHICLE["wheelbase_m"])
+        return _decimal(body["cg_lift"]["lift_height_m"]) >= wheelbase
+    if rule == "one_of":
+        return body.get("cg_lift") is not None and body.get("cg_height_m") is not None
     return rule in {"front_wheel_lift", "rear_wheel_lift"}
 
 

@@ -526,3 +526,12 @@ def test_accelerating_without_a_known_cg_height_is_named_not_guessed() -> None:
     speeds, missing = at_speed(data, assess_dynamics(data), speed_kmh=40)
     assert missing == ()
     assert all(s.lsf_at_speed is not None for s in speeds)
+
+
+def test_exactly_two_thirds_stays_non_compliant_standing_still_whatever_the_floats_say() -> None:
+    # a = 103.2, b = 91.3, c = 115.1: LSF exactly 2/3 (NC), which floats put a hair below 2/3
+    case = CaseLoad(0, 309.6, 206.4, compliant=False)
+    data = replace(STUDY, front_level_kg=103.2, cases=(case,), cg_lift=None)
+    speeds, _ = at_speed(data, assess_dynamics(data), speed_kmh=0)
+    assert speeds[0].compliant_at_speed is False
+    assert speeds[0].margin_speed_kmh is None
