@@ -3,6 +3,8 @@ illustrative track, radius, seat heights, tyres and drag, and the lift weighing 
 
 from __future__ import annotations
 
+from decimal import Decimal
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -10,6 +12,7 @@ from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.config import get_settings
+from app.inspections.dynamics import inspection_dynamics
 
 ILLUSTRATIVE: dict[str, Any] = {
     **STUDY_VEHICLE,
@@ -185,3 +188,22 @@ def test_bad_speed_parameters_are_422(api: TestClient, params: dict[str, Any]) -
     api.post("/api/v1/vehicles", json=ILLUSTRATIVE)
     inspection = api.post("/api/v1/inspections", json=WEIGHING).json()
     assert api.get(f"/api/v1/inspections/{inspection['id']}/dynamics", params=params).status_code == 422
+
+
+def test_an_inspection_stored_before_the_migration_reads_with_every_estimate_unknown() -> None:
+    # The columns the migration added are NULL on every older row: no revision, no lift weighing.
+    case = SimpleNamespace(occupants=0, total_kg=Decimal(359), rear_kg=Decimal(250), compliant=False)
+    old = SimpleNamespace(
+        front_kg=Decimal(108),
+        left_rear_kg=Decimal(115),
+        right_rear_kg=Decimal(135),
+        overall_kg=Decimal(359),
+        wheelbase_m=Decimal(2),
+        loading_cases=[case],
+        dynamics_revision=None,
+        dynamics_input=None,
+        occupant_config={"seats": [], "load_items": []},
+    )
+    _, dynamics = inspection_dynamics(old)
+    assert dynamics.cases[0].rollover_threshold_g is None
+    assert "track_m" in dynamics.missing
