@@ -40,6 +40,10 @@ class Settings(BaseSettings):
     app_db_password: SecretStr | None = None
     occupant_mass_kg: Decimal = Field(default=Decimal("72"), ge=20, le=250)
     sum_tolerance: Decimal = Field(default=Decimal("0.01"), gt=0, le=Decimal("0.1"))
+    # Beyond the static test (estimates only): air density for drag, and a regulator's minimum
+    # rollover threshold drawn on the stability map (unset: no line).
+    air_density_kg_m3: float = Field(default=1.2, gt=0, le=2)
+    min_rollover_g: float | None = Field(default=None, gt=0, le=2)
     max_body_bytes: int = 1024 * 1024
     page_size: int = Field(default=50, ge=1, le=500)
     session_idle_minutes: int = 30

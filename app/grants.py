@@ -29,6 +29,7 @@ PRIVILEGES: dict[str, str] = {
     "signing_key": "SELECT, INSERT, UPDATE (active, retired_at)",  # retiring; the trigger keeps it so
     "certificate_sequence": EDITABLE,  # the yearly counter's upsert
     "vehicle": EDITABLE,
+    "vehicle_dynamics_revision": APPEND_ONLY,  # every change of the figures kept
     "seat": DISPOSABLE,  # a vehicle's seats are replaced when it is edited
     "station": EDITABLE,
     "station_rate_window": EDITABLE,  # the per-window counter's upsert

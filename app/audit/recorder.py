@@ -27,6 +27,7 @@ from app.certificates.models import Certificate, CertificateRevocation, SigningK
 from app.db import REQUEST_ORIGIN_KEY, utcnow
 from app.stations.models import Station
 from app.type_assessments.models import TypeAssessmentRecord
+from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain
@@ -83,6 +84,9 @@ AUDITED: dict[type[Any], Audited] = {
     ),
     Station: Audited("station", ("name", "active"), lambda r: r.id, frozenset({"key_hash"})),
     Vehicle: Audited("vehicle", ("registration_number", "make", "model"), lambda r: r.registration_number),
+    VehicleDynamicsRevision: Audited(
+        "vehicle", ("revision", *DYNAMICS_FIELDS, "seat_heights_m"), lambda r: r.vehicle.registration_number
+    ),
     SigningKey: Audited(
         "signing_key", ("kid", "source", "active"), lambda r: r.kid, frozenset({"private_pem"})
     ),
@@ -109,6 +113,8 @@ def _created(record: Any, audited: Audited) -> tuple[str, dict[str, Any]]:
         return ("refusal" if record.kind == "refusal" else "certificate") + ".issued", details
     if isinstance(record, CertificateRevocation):
         return "certificate.revoked", details
+    if isinstance(record, VehicleDynamicsRevision):
+        return "vehicle.dynamics_recorded", details
     return f"{audited.target_type}.created", details
 
 

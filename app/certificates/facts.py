@@ -14,6 +14,7 @@ from typing import Any
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import NOT_RECORDED, officer_of, station_shown_as
+from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
 from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
@@ -89,6 +90,7 @@ class Facts:
     verdict: str
     occupancy: str
     issued_by: str | None = None  # by name and badge; None in snapshots made before it was kept
+    estimates: EstimateFacts | None = None  # beyond the static test, shown, never certified
 
     @property
     def recorded_by(self) -> str:
@@ -159,6 +161,7 @@ class Facts:
             verdict=verdict_sentence([(c.occupants, c.compliant) for c in cases], best),
             occupancy=occupancy_sentence(data["compliant"], best),
             issued_by=data.get("issued_by"),
+            estimates=estimates_from_json(data.get("estimates")),
         )
 
 
@@ -261,4 +264,5 @@ def facts_of(
         ),
         occupancy=occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
         issued_by=issued_by,
+        estimates=estimate_facts(inspection),
     )

@@ -14,6 +14,7 @@ from datetime import datetime
 import segno
 
 from app.certificates.chart import Box, chart_height, draw_chart
+from app.certificates.dynamics_pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layout, Page, line_height
 from app.inspections.wording import document_kind, document_title
@@ -97,6 +98,8 @@ def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
     _verdict(pdf, document)
     _table(pdf, facts)
     _chart(pdf, document)
+    if facts.estimates is not None:
+        draw_estimates(pdf, facts.estimates)
     pdf.page_lines(f"{title(document.kind)} {document.number}")
     pdf.layout.printable.report(document.number)
     return bytes(pdf.output()), pdf.layout

@@ -15,6 +15,8 @@ from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.ids import InspectionId
+from app.inspections.dynamics import CgLift
+from app.inspections.dynamics_api import case_dynamics_out
 from app.inspections.models import Inspection
 from app.inspections.schemas import (
     AveragedReadingsOut,
@@ -65,6 +67,8 @@ def inspection_request(body: InspectionIn) -> InspectionRequest:
         measured_cases=tuple(
             MeasuredCase(m.occupants, wheel_readings(m.readings)) for m in body.measured_cases
         ),
+        cg_lift=CgLift(body.cg_lift.lift_height_m, tuple(body.cg_lift.front_kg)) if body.cg_lift else None,
+        cg_height_m=body.cg_height_m,
     )
 
 
@@ -109,6 +113,7 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
             raw.setdefault(reading.wheel, []).append(float(reading.value_kg))
     empty = inspection.loading_cases[0]
     config = inspection.occupant_config
+    estimates, missing = case_dynamics_out(inspection)
     return InspectionOut(
         **inspection_summary(inspection).model_dump(),
         vehicle_id=inspection.vehicle_id,
@@ -145,9 +150,11 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
                 variance=_f(case.variance, 4),
                 compliant=case.compliant,
                 measured=case.measured,
+                dynamics=figures,
             )
-            for case in inspection.loading_cases
+            for case, figures in zip(inspection.loading_cases, estimates, strict=True)
         ],
+        dynamics_missing=missing,
     )
 
 

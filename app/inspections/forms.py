@@ -8,6 +8,7 @@ from decimal import Decimal
 
 from starlette.datastructures import FormData
 
+from app.inspections.dynamics_form import LIFT_FIELDS, read_lift
 from app.inspections.service import InspectionRequest
 from app.stability import MeasuredCase, Seat, WheelReadings
 from app.stability.validation import WHEEL_WORDS
@@ -38,7 +39,7 @@ def field_names(seat_count: int) -> list[str]:
     names = [reading_id(w, i) for w in WHEELS for i in range(1, READINGS_PER_WHEEL + 1)]
     names += ["wheelbase_m", "occupant_mass_kg"] + [seat_id(i) for i in range(seat_count)]
     names += [measured_id(n, w) for n in range(1, seat_count + 1) for w in WHEELS]
-    return names
+    return names + LIFT_FIELDS
 
 
 def metres(value: Decimal) -> str:
@@ -135,6 +136,7 @@ def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionFor
         form.input_for[f"{prefix}.occupants"] = boxes["front_kg"][0]
         measured.append(MeasuredCase(occupants, _readings(form, f"{prefix}.readings", boxes)))
 
+    cg_lift = read_lift(form)
     if not form.errors and wheelbase is not None and mass is not None:
         form.request = InspectionRequest(
             registration_number=vehicle.registration_key,
@@ -143,5 +145,6 @@ def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionFor
             occupant_mass_kg=mass,
             seats=tuple(seats),
             measured_cases=tuple(measured),
+            cg_lift=cg_lift,
         )
     return form

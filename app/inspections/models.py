@@ -11,6 +11,7 @@ from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
 from app.stations.models import Station
+from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 
@@ -49,9 +50,17 @@ class Inspection(Base):
     # The station scale's calibration in force when the readings were taken (None: not on record).
     calibration_certificate: Mapped[str | None] = mapped_column(String(64))
     calibration_valid_until: Mapped[date | None] = mapped_column(Date)
+    # Beyond the static test (estimates): the vehicle's figures in force, and the CG-height weighing
+    # {"cg_lift": {"lift_height_m", "front_kg": [...]}, "cg_height_m", "seat_heights_m": [...]}.
+    # No foreign key: SQLite could not drop the column again without rebuilding this table.
+    dynamics_revision_id: Mapped[int | None] = mapped_column(Integer)
+    dynamics_input: Mapped[dict[str, Any] | None] = mapped_column(JSON)
 
     vehicle: Mapped[Vehicle] = relationship(lazy="joined")
     station: Mapped[Station | None] = relationship(lazy="joined")
+    dynamics_revision: Mapped[VehicleDynamicsRevision | None] = relationship(
+        primaryjoin="foreign(Inspection.dynamics_revision_id) == VehicleDynamicsRevision.id", lazy="joined"
+    )
     readings: Mapped[list[Reading]] = relationship(
         order_by="(Reading.case_occupants, Reading.wheel, Reading.sequence)", lazy="selectin"
     )

@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from app.api.fields import text
+from app.inspections.dynamics_schemas import CaseDynamicsOut, CgHeight, CgLiftIn
 from app.numbers import (
     LIMITS,
     MAX_LOAD_ITEMS,
@@ -24,6 +25,13 @@ from app.vehicles.schemas import RegistrationNumber, SeatLayout
 STUDY_EXAMPLE: dict[str, Any] = {
     "registration_number": "BDG 252 QH",
     "readings": {"front_kg": [108, 108, 108], "left_rear_kg": 115, "right_rear_kg": 135, "overall_kg": 359},
+}
+
+
+# The same weighing with the front wheel raised 0.40 m for the CG height (reference section 5).
+STUDY_LIFT_EXAMPLE: dict[str, Any] = {
+    **STUDY_EXAMPLE,
+    "cg_lift": {"lift_height_m": 0.4, "front_kg": [94.8, 94.8]},
 }
 
 
@@ -69,7 +77,9 @@ class MeasuredCaseIn(BaseModel):
 class InspectionIn(BaseModel):
     """A weighbridge submission for a registered vehicle."""
 
-    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [STUDY_EXAMPLE]})
+    model_config = ConfigDict(
+        extra="forbid", json_schema_extra={"examples": [STUDY_EXAMPLE, STUDY_LIFT_EXAMPLE]}
+    )
 
     registration_number: RegistrationNumber
     readings: ReadingsIn
@@ -77,6 +87,11 @@ class InspectionIn(BaseModel):
     occupants: OccupantsIn | None = None
     load_items: list[LoadItemIn] = Field(default_factory=list, max_length=MAX_LOAD_ITEMS)
     measured_cases: list[MeasuredCaseIn] = Field(default_factory=list, max_length=LIMITS.max_seats)
+    cg_lift: CgLiftIn | None = Field(
+        default=None,
+        description="For the estimates: the weighing with the front wheel raised (not with cg_height_m).",
+    )
+    cg_height_m: CgHeight | None = None
 
 
 class LoadingCaseOut(BaseModel):
@@ -90,6 +105,9 @@ class LoadingCaseOut(BaseModel):
     variance: float
     compliant: bool
     measured: bool
+    dynamics: CaseDynamicsOut | None = Field(
+        default=None, description="Estimates beyond the static test; never part of the verdict."
+    )
 
 
 class AveragedReadingsOut(BaseModel):
@@ -150,6 +168,9 @@ class InspectionOut(InspectionSummary):
     settings: SettingsOut
     cg_from_front_m: float
     loading_cases: list[LoadingCaseOut]
+    dynamics_missing: list[str] = Field(
+        default_factory=list, description="The inputs whose absence leaves estimates in `dynamics` null."
+    )
 
 
 class InspectionPage(BaseModel):

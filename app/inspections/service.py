@@ -16,6 +16,7 @@ from sqlalchemy.orm.attributes import set_committed_value
 
 from app.db import begin_write, utcnow
 from app.errors import InvalidInput, NotFound
+from app.inspections.dynamics import CgLift, figures_for_inspection
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stability import (
     RULES_VERSION,
@@ -53,6 +54,9 @@ class InspectionRequest:
     seats: tuple[Seat, ...] | None = None
     load_items: tuple[LoadItem, ...] = ()
     measured_cases: tuple[MeasuredCase, ...] = field(default_factory=tuple)
+    # For the estimates beyond the static test (app/inspections/dynamics.py): one or neither.
+    cg_lift: CgLift | None = None
+    cg_height_m: Decimal | None = None
 
 
 def quantize(value: Fraction, places: int) -> Decimal:
@@ -112,6 +116,15 @@ def record_inspection(
     vehicle = get_vehicle(session, request.registration_number)
     data = build_input(vehicle, request)
     result = assess_input(data, rules)
+    estimates = figures_for_inspection(
+        session,
+        vehicle=vehicle,
+        result=result,
+        cg_lift=request.cg_lift,
+        cg_height_m=request.cg_height_m,
+        seats=request.seats,
+        has_load_items=bool(request.load_items),
+    )
     begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn
     columns: dict[str, object] = {
         "vehicle_id": vehicle.id,
@@ -137,6 +150,7 @@ def record_inspection(
         "max_compliant_occupants": result.max_compliant_occupants,
         "calibration_certificate": station.calibration_certificate if station else None,
         "calibration_valid_until": station.calibration_valid_until if station else None,
+        **estimates.columns,
     }
     # Core INSERTs on the session's connection, in its transaction: the ORM's unit of work would
     # cost as much again in Python for rows that are written once and never changed.
@@ -149,6 +163,7 @@ def record_inspection(
     inspection = _as_stored(
         session, Inspection(id=inspection_id, **columns), vehicle, station, readings, cases
     )
+    set_committed_value(inspection, "dynamics_revision", estimates.revision)
     if on_stored is not None:
         on_stored(session, inspection)
     session.commit()

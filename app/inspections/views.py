@@ -18,6 +18,7 @@ from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
 from app.ids import IdChoice, InspectionId, PageNumber, parse_id
+from app.inspections.dynamics_views import dynamics_context
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
@@ -173,6 +174,7 @@ def inspection_page(
     inspection = get_inspection(session, inspection_id)
     context = result_context(session, inspection)
     certificates = certificates_of_inspection(session, inspection.id)
+    context.update(dynamics_context(inspection))
     context.update(
         recorded_by=recorded_by(session, inspection),
         calibration=calibration_words(inspection.calibration_certificate, inspection.calibration_valid_until),

@@ -13,6 +13,7 @@ from app.api.strict_json import StrictJSONRoute
 from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
+from app.vehicles.dynamics_api import dynamics_figures, dynamics_out
 from app.vehicles.models import Vehicle
 from app.vehicles.schemas import (
     RegistrationNumber,
@@ -36,6 +37,7 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
         chassis_number=vehicle.chassis_number,
         wheelbase_m=float(vehicle.wheelbase_m),
         seats=[SeatOut(role=s.role, x_m=float(s.x_m)) for s in vehicle.seats],
+        dynamics=dynamics_out(vehicle),
         created_at=vehicle.created_at,
     )
 
@@ -79,6 +81,7 @@ def create_vehicle(
             wheelbase_m=body.wheelbase_m,
             seats=[(seat.role, seat.x_m) for seat in body.seats],
             on_stored=on_stored,
+            dynamics=dynamics_figures(body),
         )
         return answered[0]
 

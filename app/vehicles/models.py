@@ -4,11 +4,15 @@ from __future__ import annotations
 
 from datetime import datetime
 from decimal import Decimal
+from typing import TYPE_CHECKING
 
 from sqlalchemy import CheckConstraint, ForeignKey, Integer, Numeric, String
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
+
+if TYPE_CHECKING:
+    from app.vehicles.dynamics_models import VehicleDynamicsRevision
 
 
 class Vehicle(Base):
@@ -28,6 +32,10 @@ class Vehicle(Base):
 
     seats: Mapped[list[Seat]] = relationship(
         back_populates="vehicle", order_by="Seat.position", cascade="all, delete-orphan", lazy="selectin"
+    )
+    # Every version of the figures for the estimates, oldest first (app/vehicles/dynamics_models.py).
+    dynamics_revisions: Mapped[list[VehicleDynamicsRevision]] = relationship(
+        back_populates="vehicle", order_by="VehicleDynamicsRevision.revision"
     )
 
 

@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
 
 from app.api.fields import identifier, text
 from app.numbers import LIMITS, POSITION_SCHEMA, WHOLE_NUMBER, Position, Wheelbase
+from app.vehicles.dynamics_schemas import SeatHeight, VehicleDynamicsIn, VehicleDynamicsOut, type_schema
 
 # 2 to 16 letters and digits, with spaces or hyphens between them that are ignored:
 # exactly the registrations the service can normalise (`bdg-252qh` and `BDG 252 QH` are one vehicle).
@@ -28,10 +29,10 @@ REGISTRATION_RULE = identifier(
 RegistrationNumber = Annotated[str, REGISTRATION_RULE]
 
 
-def _seat_schema(role: str) -> dict[str, Any]:
+def _seat_schema(role: str, **more: dict[str, Any]) -> dict[str, Any]:
     return {
         "type": "object",
-        "properties": {"role": {"const": role}, "x_m": POSITION_SCHEMA},
+        "properties": {"role": {"const": role}, "x_m": POSITION_SCHEMA, **more},
         "required": ["role", "x_m"],
         "additionalProperties": False,
     }
@@ -65,8 +66,30 @@ SeatLayout = Annotated[
 ]
 
 
-class VehicleIn(BaseModel):
-    """A tricycle to register."""
+class VehicleSeatIn(SeatIn):
+    """A registered seat may also give its occupant's seated CG height `z_m` (for the estimates)."""
+
+    z_m: SeatHeight | None = None
+
+
+_Z = {"z_m": type_schema(SeatHeight)}
+VehicleSeatLayout = Annotated[
+    list[VehicleSeatIn],
+    Field(min_length=1, max_length=LIMITS.max_seats),
+    WithJsonSchema(
+        {
+            **SEAT_LAYOUT_SCHEMA,
+            "prefixItems": [_seat_schema("driver", **_Z)],
+            "items": _seat_schema("passenger", **_Z),
+            "description": SEAT_LAYOUT_SCHEMA["description"]
+            + " Each may give `z_m`, the seated person's centre of gravity above the ground (m).",
+        }
+    ),
+]
+
+
+class VehicleIn(VehicleDynamicsIn):
+    """A tricycle to register; the figures for the estimates beyond the static test are optional."""
 
     model_config = ConfigDict(
         extra="forbid",
@@ -80,11 +103,17 @@ class VehicleIn(BaseModel):
                     "chassis_number": "MD2AAC4ZZCWB12345",
                     "wheelbase_m": 2.0,
                     "seats": [
-                        {"role": "driver", "x_m": 0.9303},
-                        {"role": "passenger", "x_m": 1.6303},
-                        {"role": "passenger", "x_m": 1.6303},
-                        {"role": "passenger", "x_m": 1.6303},
+                        {"role": "driver", "x_m": 0.9303, "z_m": 0.75},
+                        {"role": "passenger", "x_m": 1.6303, "z_m": 0.80},
+                        {"role": "passenger", "x_m": 1.6303, "z_m": 0.80},
+                        {"role": "passenger", "x_m": 1.6303, "z_m": 0.80},
                     ],
+                    "track_m": 1.15,
+                    "wheel_radius_m": 0.19,
+                    "front_cornering_stiffness_n_per_rad": 8000,
+                    "rear_cornering_stiffness_n_per_rad": 8000,
+                    "drag_area_m2": 1.6,
+                    "centre_of_pressure_height_m": 0.9,
                 }
             ]
         },
@@ -96,7 +125,7 @@ class VehicleIn(BaseModel):
     model_year: Annotated[int, Field(ge=1950, le=2100), WHOLE_NUMBER] | None = None
     chassis_number: Annotated[str, text(64)] | None = None
     wheelbase_m: Wheelbase
-    seats: SeatLayout
+    seats: VehicleSeatLayout
 
 
 class VehicleOut(BaseModel):
@@ -110,6 +139,10 @@ class VehicleOut(BaseModel):
     chassis_number: str | None
     wheelbase_m: float
     seats: list[SeatOut]
+    dynamics: VehicleDynamicsOut | None = Field(
+        default=None,
+        description="The figures for the estimates in force; null for a vehicle registered before.",
+    )
     created_at: datetime
 
 

@@ -15,6 +15,7 @@ from app.stability import Rules, StabilityError
 from app.stability import Seat as StabilitySeat
 from app.stability.validation import check_seat_layout, check_wheelbase
 from app.text import TextRefused, check_text, checked, optional_checked, without_refused
+from app.vehicles.dynamics_service import DynamicsFigures, check_figures, new_revision
 from app.vehicles.models import Seat, Vehicle
 
 MAKE_LENGTH = 80
@@ -47,8 +48,11 @@ def register_vehicle(
     chassis_number: str | None = None,
     rules: Rules | None = None,
     on_stored: Callable[[Session, Vehicle], None] | None = None,
+    dynamics: DynamicsFigures | None = None,
 ) -> Vehicle:
     """Store a new vehicle with its seat layout; a registration already on file is a conflict.
+
+    Its figures for the estimates (`dynamics`, each optional) become the vehicle's revision 1.
 
     `on_stored(session, vehicle)` runs once the vehicle has its id, before the commit, so a caller
     can store a row of its own in the same transaction (the API's idempotency key).
@@ -69,6 +73,8 @@ def register_vehicle(
     if chassis_number:  # upper case can lengthen a text (ß is SS): the limit holds for what is stored
         chassis_number = checked("chassis_number", chassis_number.upper(), max_length=CHASSIS_LENGTH)
     _check_layout(wheelbase_m, seats, rules)
+    dynamics = dynamics or DynamicsFigures()
+    check_figures(dynamics, seat_count=len(seats))
     on_file = _registered_as(session, key)
     if on_file is not None:
         raise _duplicate(registration_number, on_file)
@@ -83,6 +89,7 @@ def register_vehicle(
         seats=[Seat(position=i, role=role, x_m=x_m) for i, (role, x_m) in enumerate(seats)],
     )
     session.add(vehicle)
+    new_revision(session, vehicle, dynamics)
     try:
         if on_stored is not None:
             session.flush()

@@ -14,6 +14,7 @@ from app.errors import Conflict, NotFound, ServiceError
 from app.inspections.service import InspectionFilter, list_inspections
 from app.inspections.views import result_context
 from app.text import without_refused
+from app.vehicles.dynamics_views import figures_rows
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
@@ -126,6 +127,7 @@ def vehicle_page(
             "vehicle": vehicle,
             "inspections": inspections,
             "total": total,
+            "figures": figures_rows(vehicle),
             "latest": result_context(session, inspections[0]) if inspections else None,
         },
     )

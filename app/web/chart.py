@@ -2,6 +2,9 @@
 
 x: the loading cases; y: LSF; a line at 2/3 labelled "limit 2/3" with the region above it shaded
 "unstable"; compliant cases are circles marked C, non-compliant ones crosses marked NC.
+
+The stability map (estimates) puts each case at (LSF, rollover threshold) with the same markers:
+the 2/3 line across, a regulator's minimum rollover threshold as a line when one is set.
 """
 
 from __future__ import annotations
@@ -113,15 +116,26 @@ def plot_for(values: Sequence[float], slots: int) -> Plot:
     return Plot(low, high, slots)
 
 
+def _opening(chart_id: str, title: str, description: str) -> str:
+    """The svg element's start, its title and its text alternative (every chart)."""
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
+        f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">'
+        f'<title id="{chart_id}-title">{escape(title)}</title>'
+        f'<desc id="{chart_id}-desc">{escape(description)}</desc>'
+    )
+
+
+def _frame(x: float, y: float, w: float, h: float) -> str:
+    return f'<rect x="{x}" y="{y}" width="{w}" height="{h}" fill="none" stroke="#505a5f"/>'
+
+
 def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> list[str]:
     """The opening of the SVG: title and text alternative, the unstable region, grid, 2/3 line, border."""
     limit_y = plot.y_of(LIMIT)
     plot_w, plot_h = plot.width, plot.height
     parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" class="chart" viewBox="0 0 {WIDTH} {HEIGHT}" '
-        f'role="img" aria-labelledby="{chart_id}-title {chart_id}-desc" id="{chart_id}" focusable="false">',
-        f'<title id="{chart_id}-title">{escape(title)}</title>',
-        f'<desc id="{chart_id}-desc">{escape(description)}</desc>',
+        _opening(chart_id, title, description),
         f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
         'fill="#fbe3df"/>',
         _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
@@ -140,9 +154,7 @@ def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> l
     parts.append(
         _text(LEFT + plot_w + 6, limit_y + 5, "limit 2/3", anchor="start", size=16, cls="chart__limit-label")
     )
-    parts.append(
-        f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="none" stroke="#505a5f"/>'
-    )
+    parts.append(_frame(LEFT, TOP, plot_w, plot_h))
     return parts
 
 
@@ -192,4 +204,169 @@ def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> M
         parts.append(case_axis_label(plot, i, point.short_label))
     parts += chart_close(plot)
     # Every piece of text above went through escape(); the rest is markup built here from numbers.
+    return Markup("".join(parts))  # noqa: S704
+
+
+MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"
+MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 44, 60  # the top margin holds the legend
+MAP_X_STEP, MAP_Y_STEP = 0.05, 0.1
+
+
+@dataclass(frozen=True)
+class MapPoint:
+    """One loading case on the stability map (estimates: its rollover threshold rests on assumed inputs)."""
+
+    short_label: str
+    long_label: str
+    lsf: float
+    rollover_g: float
+    compliant: bool
+
+
+@dataclass(frozen=True)
+class MapGeometry:
+    """The map computed once from the data, in unit coordinates (0 left/bottom, 1 right/top): the SVG
+    and the PDF only draw it."""
+
+    x_ticks: tuple[tuple[float, str], ...]
+    y_ticks: tuple[tuple[float, str], ...]
+    limit_x: float
+    min_rollover: tuple[float, str] | None  # where its line runs and its label
+    points: tuple[tuple[float, float, MapPoint], ...]
+
+
+def map_range(values: Sequence[float], *, low: float, high: float, step: float) -> tuple[float, float]:
+    """An axis from `low` to `high`, widened in whole steps to hold every value with a margin."""
+    least = min([low, *(v - step / 2 for v in values)])
+    most = max([high, *(v + step / 2 for v in values)])
+    return math.floor(round(least / step, 6)) * step, math.ceil(round(most / step, 6)) * step
+
+
+def map_geometry(points: Sequence[MapPoint], min_rollover_g: float | None) -> MapGeometry:
+    """Axes of about 0.55-0.8 (LSF) and 0.5-0.9 g, widened to hold every point and the minimum line."""
+    x_low, x_high = map_range([p.lsf for p in points], low=0.55, high=0.8, step=MAP_X_STEP)
+    thresholds = [p.rollover_g for p in points] + ([min_rollover_g] if min_rollover_g is not None else [])
+    y_low, y_high = map_range(thresholds, low=0.5, high=0.9, step=MAP_Y_STEP)
+
+    def across(value: float) -> float:
+        return (value - x_low) / (x_high - x_low)
+
+    def up(value: float) -> float:
+        return (value - y_low) / (y_high - y_low)
+
+    x_ticks = tuple(
+        (across(x_low + i * MAP_X_STEP), f"{x_low + i * MAP_X_STEP:.2f}")
+        for i in range(round((x_high - x_low) / MAP_X_STEP) + 1)
+    )
+    y_ticks = tuple(
+        (up(y_low + i * MAP_Y_STEP), f"{y_low + i * MAP_Y_STEP:.1f}")
+        for i in range(round((y_high - y_low) / MAP_Y_STEP) + 1)
+    )
+    minimum = None if min_rollover_g is None else (up(min_rollover_g), f"minimum {min_rollover_g:.2f} g")
+    return MapGeometry(
+        x_ticks=x_ticks,
+        y_ticks=y_ticks,
+        limit_x=across(LIMIT),
+        min_rollover=minimum,
+        points=tuple((across(p.lsf), up(p.rollover_g), p) for p in points),
+    )
+
+
+def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> str:
+    """The map's text alternative: every case's LSF, threshold and verdict, and the lines."""
+    cases = "; ".join(
+        f"{p.long_label}: LSF {p.lsf:.3f}, rollover threshold {p.rollover_g:.3f} g, "
+        f"{'C (compliant)' if p.compliant else 'NC (not compliant)'}"
+        for p in points
+    )
+    minimum = (
+        f" The minimum rollover threshold is {min_rollover_g:.2f} g; a case below that line tips too easily."
+        if min_rollover_g is not None
+        else ""
+    )
+    return (
+        f"Each loading case's LSF (across) against its estimated rollover threshold (up). Right of the "
+        f"2/3 line ({LIMIT_TEXT}) a case is yaw-unstable.{minimum} {cases}."
+    )
+
+
+def stability_map(
+    points: Sequence[MapPoint], *, min_rollover_g: float | None = None, chart_id: str = "stability-map"
+) -> Markup:
+    """The stability map as an SVG element: the 2/3 line, a minimum rollover line when one is set."""
+    geometry = map_geometry(points, min_rollover_g)
+    plot_w, plot_h = WIDTH - MAP_LEFT - MAP_RIGHT, HEIGHT - MAP_TOP - MAP_BOTTOM
+    right, bottom = MAP_LEFT + plot_w, MAP_TOP + plot_h
+
+    def x_of(across: float) -> float:
+        return MAP_LEFT + across * plot_w
+
+    def y_of(up: float) -> float:
+        return bottom - up * plot_h
+
+    limit_x = x_of(geometry.limit_x)
+    parts = [
+        _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g)),
+        f'<rect class="chart__unstable" x="{limit_x:.1f}" y="{MAP_TOP}" '
+        f'width="{right - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
+        _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", size=16, cls="chart__region"),
+    ]
+    if geometry.min_rollover is not None:
+        min_y = y_of(geometry.min_rollover[0])
+        parts.append(
+            f'<rect class="chart__tips" x="{MAP_LEFT}" y="{min_y:.1f}" width="{plot_w}" '
+            f'height="{bottom - min_y:.1f}" fill="#fff2cc" fill-opacity="0.7"/>'
+        )
+    for across, label in geometry.x_ticks:
+        x = x_of(across)
+        parts.append(f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{MAP_TOP}" y2="{bottom}" stroke="#d0d3d4"/>')
+        parts.append(_text(x, bottom + 22, label, size=15))
+    for up, label in geometry.y_ticks:
+        y = y_of(up)
+        parts.append(f'<line x1="{MAP_LEFT}" x2="{right}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
+        parts.append(_text(MAP_LEFT - 8, y + 5, label, anchor="end", size=15))
+    parts.append(
+        f'<line class="chart__limit" x1="{limit_x:.1f}" x2="{limit_x:.1f}" y1="{MAP_TOP}" '
+        f'y2="{bottom}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
+    )
+    parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", size=15, cls="chart__limit-label"))
+    if geometry.min_rollover is not None:
+        min_y = y_of(geometry.min_rollover[0])
+        parts.append(
+            f'<line class="chart__min-rollover" x1="{MAP_LEFT}" x2="{right}" y1="{min_y:.1f}" '
+            f'y2="{min_y:.1f}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="2 4"/>'
+        )
+        parts.append(
+            _text(
+                MAP_LEFT + 6,
+                min_y - 6,
+                geometry.min_rollover[1],
+                anchor="start",
+                size=15,
+                cls="chart__limit-label",
+            )
+        )
+    parts.append(_frame(MAP_LEFT, MAP_TOP, plot_w, plot_h))
+    for across, up, point in geometry.points:
+        x, y = x_of(across), y_of(up)
+        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
+        parts.append(marker(x, y, point.compliant))
+        # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
+        label_y = y + 25 if bottom - y > 30 else y - 12
+        parts.append(_text(x, label_y, point.short_label, size=14, cls="chart__verdict"))
+        parts.append("</g>")
+    # The legend says what the shapes mean, so neither colour nor shape stands alone.
+    parts.append(marker(MAP_LEFT + 8, 14, True))
+    parts.append(_text(MAP_LEFT + 22, 19, "C compliant", anchor="start", size=15))
+    parts.append(marker(MAP_LEFT + 140, 14, False))
+    parts.append(_text(MAP_LEFT + 154, 19, "NC not compliant", anchor="start", size=15))
+    parts.append(
+        _text(MAP_LEFT + plot_w / 2, HEIGHT - 8, "LSF (share of weight on the rear wheels)", size=16)
+    )
+    parts.append(
+        f'<text x="16" y="{MAP_TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="16" '
+        f'transform="rotate(-90 16 {MAP_TOP + plot_h / 2:.1f})">Rollover threshold (g)</text>'
+    )
+    parts.append("</svg>")
+    # As above: every text went through escape(); the rest is markup built here from numbers.
     return Markup("".join(parts))  # noqa: S704

@@ -190,6 +190,9 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
       readings, seats, masses and wheelbase together);
     - a type assessment's model against the records on file: fewer than two vehicles, an inspection
       of another model or of a vehicle named twice, different seat layouts (checked in the database).
+    - the axle-lift weighing for the estimates: the raised front reading not below the level one
+      (less_than_level), a lift not below the wheelbase (below_wheelbase), or both a lift and a CG
+      height given (one_of), each recomputed here.
     """
     field, rule = problem.get("field", ""), problem.get("rule", "")
     if rule == "sum_tolerance":
@@ -207,6 +210,13 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
         return max(values) - min(values) > Fraction(SCALE.max_spread_kg)
     if rule in TYPE_RULES and "make" in body and "model" in body:
         return _type_refusal_explained(body, field, rule)
+    if rule == "less_than_level":
+        return _mean(body["cg_lift"]["front_kg"]) >= _mean(body["readings"]["front_kg"])
+    if rule == "below_wheelbase":
+        wheelbase = _decimal(body.get("wheelbase_m") or STUDY_VEHICLE["wheelbase_m"])
+        return _decimal(body["cg_lift"]["lift_height_m"]) >= wheelbase
+    if rule == "one_of":
+        return body.get("cg_lift") is not None and body.get("cg_height_m") is not None
     return rule in {"front_wheel_lift", "rear_wheel_lift"}
 
 

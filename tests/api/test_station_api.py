@@ -117,6 +117,17 @@ def test_a_registered_vehicle_reads_back_as_registered(api: TestClient) -> None:
         "chassis_number": "MD2AAC4ZZ",
         "wheelbase_m": 2.0,
         "seats": [{"role": "driver", "x_m": 0.9303}, {"role": "passenger", "x_m": 1.6303}],
+        # no figures for the estimates were given: revision 1 holds none of them
+        "dynamics": {
+            "revision": 1,
+            "track_m": None,
+            "wheel_radius_m": None,
+            "seat_heights_m": [],
+            "front_cornering_stiffness_n_per_rad": None,
+            "rear_cornering_stiffness_n_per_rad": None,
+            "drag_area_m2": None,
+            "centre_of_pressure_height_m": None,
+        },
         "created_at": "",
     }
 

@@ -39,6 +39,7 @@ PROTECTED = {
     "type_assessment": ("compliant", "true"),
     "type_assessment_inspection": ("inspection_id", "1"),
     "type_assessment_case": ("upper_95_lsf", "0.5"),
+    "vehicle_dynamics_revision": ("track_m", "2"),
 }
 
 

@@ -20,10 +20,12 @@ import pytest
 from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh
 from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
+from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 import app.certificates.service as service
 from app.certificates.pdf import CertificateDocument, render_with_layout
 from app.certificates.pdf_layout import Layout, Region
+from app.config import get_settings
 from app.stations.details import StationDetails
 from app.stations.service import create_station
 
@@ -36,6 +38,12 @@ CHART_WORDS = re.compile(
     r"^(LSF|Shaded:|unstable|\(LSF|at|or|above|2/3\)|limit|2/3|C|NC|None|Driver|\+\d+|Loading|case|"
     r"\(occupants\)|\d\.\d\d)$"
 )
+# The stability map's own words (estimates beyond the static test).
+MAP_WORDS = re.compile(
+    r"^(Rollover|threshold|\(g\)|Circle:|C\.|Cross:|NC\.|Shaded:|yaw-unstable\.|limit|2/3|LSF|None|Driver|"
+    r"\+\d+|minimum|g|\d\.\d\d?)$"
+)
+REGION_WORDS = {"chart": CHART_WORDS, "map": MAP_WORDS}
 
 
 @dataclass(frozen=True)
@@ -153,7 +161,7 @@ def assert_holds(document: Rendered) -> list[Word]:
         assert region.y > 0, region
         assert (region.y + region.h) * MM < height, region
         for word in by_page.get(region.page, []):
-            if region.kind == "chart" and CHART_WORDS.match(word.text):
+            if region.kind in REGION_WORDS and REGION_WORDS[region.kind].match(word.text):
                 continue
             assert not word.overlaps(region), (word, region)
     for i, first in enumerate(regions):
@@ -302,3 +310,45 @@ def test_documents_rendered_at_once_in_threads_are_the_same_bytes(
     with ThreadPoolExecutor(max_workers=4) as pool:
         rendered = list(pool.map(lambda d: render_with_layout(d)[0], documents * 6))
     assert rendered == expected * 6
+
+
+ILLUSTRATIVE_VEHICLE: dict[str, Any] = {
+    **STUDY_VEHICLE,
+    "seats": [{"role": "driver", "x_m": 0.9303, "z_m": 0.75}]
+    + [{"role": "passenger", "x_m": 1.6303, "z_m": 0.8}] * 3,
+    "track_m": 1.15,
+    "wheel_radius_m": 0.19,
+    "front_cornering_stiffness_n_per_rad": 8000,
+    "rear_cornering_stiffness_n_per_rad": 8000,
+}
+
+
+@pytest.mark.parametrize("min_rollover", [None, "0.65"])
+def test_the_estimates_and_the_stability_map_read_back_and_overlap_nothing(
+    api: TestClient,
+    layouts: list[tuple[bytes, Layout]],
+    monkeypatch: pytest.MonkeyPatch,
+    min_rollover: str | None,
+) -> None:
+    if min_rollover:
+        monkeypatch.setenv("TRIKECERT_MIN_ROLLOVER_G", min_rollover)
+    get_settings.cache_clear()
+    register(api, ILLUSTRATIVE_VEHICLE)
+    weighing = {
+        "registration_number": "BDG 252 QH",
+        "readings": STUDY_READINGS,
+        "cg_lift": {"lift_height_m": 0.4, "front_kg": 94.8},
+    }
+    inspection = api.post("/api/v1/inspections", json=weighing)
+    assert inspection.status_code == 201, inspection.text
+    document = issued(api, layouts, inspection.json()["id"])
+    get_settings.cache_clear()
+    assert_holds(document)
+    assert [r.kind for r in document.layout.regions].count("map") == 1
+    text = squeezed(pdftotext(pdf=document.pdf))
+    assert squeezed("Beyond the static test (estimates, not part of the verdict)") in text
+    for figure in ("0.5503 m", "0.7277 g", "36.04°", "113.8 km/h", "0.6227 g", "70.0 km/h"):
+        assert squeezed(figure) in text, figure
+    assert squeezed("None (understeers)") in text
+    assert squeezed("Rear track: 1.150 m") in text
+    assert (squeezed("minimum 0.65 g") in text) is bool(min_rollover)

@@ -42,6 +42,7 @@ PROTECTED = {
     "type_assessment": "compliant",
     "type_assessment_inspection": "inspection_id",
     "type_assessment_case": "upper_95_lsf",
+    "vehicle_dynamics_revision": "track_m",
 }
 TAMPERING = [
     "UPDATE {table} SET {column} = {column}",

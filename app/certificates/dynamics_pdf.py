@@ -1,0 +1,136 @@
+"""The document's section beyond the static test: the estimates per case, their inputs and the stability map.
+
+The map's geometry comes from app/web/chart.py (`map_geometry`), the same as the page's SVG; here it
+is only drawn, with the PDF library's own primitives and the document's embedded font.
+"""
+
+from __future__ import annotations
+
+from app.certificates import fonts
+from app.certificates.chart import Box
+from app.certificates.dynamics_facts import EstimateFacts
+from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
+from app.inspections.dynamics_wording import SECTION_LEAD, SECTION_TITLE
+from app.web.chart import MapGeometry, map_geometry
+
+HEADINGS = ("Occupants", "Centre of gravity height", "Rollover threshold", "Tilt angle", "Critical speed")
+WIDTHS = (46.0, 34.0, 30.0, 24.0, 46.0)
+ALIGN = ("L", "R", "R", "R", "R")
+SIZE = 8.0
+PADDING = 1.2
+MAP_W, MAP_H = 92.0, 46.0  # the plotting area (mm)
+MAP_LEFT, MAP_ABOVE, MAP_BELOW = 9.0, 7.0, 9.0  # tick labels, the axis title and legend, the LSF axis
+
+
+def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
+    """The whole section on one page (a new one if it does not fit below the chart)."""
+    row_h = line_height(SIZE) + 0.8
+    heading_h = max(
+        pdf.measure(w - 2 * PADDING, h, SIZE, bold=True) for w, h in zip(WIDTHS, HEADINGS, strict=True)
+    )
+    lead = SECTION_LEAD + (f" {estimates.missing}" if estimates.missing else "")
+    points = estimates.map_points
+    map_h = MAP_ABOVE + MAP_H + MAP_BELOW if points else 0.0
+    inputs = "Inputs used: " + "; ".join(f"{label}: {value}" for label, value in estimates.inputs) + "."
+    inputs_w = CONTENT_W - (MAP_LEFT + MAP_W + 6 if points else 0)
+    height = (
+        line_height(11)
+        + pdf.measure(CONTENT_W, lead, 8)
+        + heading_h
+        + 1.2
+        + row_h * len(estimates.cases)
+        + 3
+        + max(map_h, pdf.measure(inputs_w, inputs, 7.5))
+    )
+    pdf.room(height + 3)
+    y = pdf.box(MARGIN, pdf.get_y() + 3, CONTENT_W, SECTION_TITLE, 11, bold=True)
+    y = pdf.box(MARGIN, y, CONTENT_W, lead, 8)
+    y = _table(pdf, estimates, y, heading_h, row_h) + 3
+    if points:
+        geometry = map_geometry(points, estimates.min_rollover_g)
+        area = draw_map(pdf, Box(MARGIN + MAP_LEFT, y + MAP_ABOVE, MAP_W, MAP_H), geometry)
+        pdf.region("map", *area)
+        beside = area[0] + area[2] + 4
+        pdf.box(beside, y, PAGE_W - MARGIN - beside, inputs, 7.5)
+        pdf.set_xy(MARGIN, area[1] + area[3] + 3)
+    else:
+        pdf.set_xy(MARGIN, pdf.box(MARGIN, y, CONTENT_W, inputs, 7.5) + 3)
+
+
+def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, row_h: float) -> float:
+    x = MARGIN
+    pdf.set_fill_color(225, 225, 225)
+    pdf.set_draw_color(0, 0, 0)
+    for width, align, heading in zip(WIDTHS, ALIGN, HEADINGS, strict=True):
+        pdf.rect(x, top, width, heading_h + 1.2, style="DF")
+        pdf.box(x + PADDING, top + 0.6, width - 2 * PADDING, heading, SIZE, bold=True, align=align)
+        x += width
+    y = top + heading_h + 1.2
+    pdf.style(SIZE)
+    pdf.c_margin = PADDING
+    for case in estimates.cases:
+        pdf.set_xy(MARGIN, y)
+        row = (case.label, case.cg_height, case.rollover_threshold, case.tilt_angle, case.critical_speed)
+        for width, align, value in zip(WIDTHS, ALIGN, row, strict=True):
+            pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
+        y += row_h
+    pdf.c_margin = 0
+    return y
+
+
+def draw_map(pdf: Page, box: Box, geometry: MapGeometry) -> tuple[float, float, float, float]:
+    """Draw the stability map's plotting area at `box`; returns the area it covers with its labels."""
+
+    def x_of(across: float) -> float:
+        return box.x + across * box.w
+
+    def y_of(up: float) -> float:
+        return box.y + box.h - up * box.h
+
+    limit_x = x_of(geometry.limit_x)
+    pdf.set_fill_color(232, 232, 232)
+    pdf.rect(limit_x, box.y, box.x + box.w - limit_x, box.h, style="F")
+    pdf.set_font(fonts.FAMILY, "", 7)
+    pdf.text(box.x - MAP_LEFT + 1, box.y - MAP_ABOVE + 2.5, "Rollover threshold (g)")
+    pdf.set_text_color(70, 70, 70)
+    pdf.text(box.x + 30, box.y - MAP_ABOVE + 2.5, "Circle: C. Cross: NC. Shaded: yaw-unstable.")
+    pdf.set_text_color(0, 0, 0)
+    pdf.set_draw_color(0, 0, 0)
+    pdf.set_line_width(0.3)
+    pdf.line(box.x, box.y, box.x, box.y + box.h)
+    pdf.line(box.x, box.y + box.h, box.x + box.w, box.y + box.h)
+    for up, label in geometry.y_ticks:
+        pdf.line(box.x - 1.2, y_of(up), box.x, y_of(up))
+        pdf.text(box.x - 6, y_of(up) + 1, label)
+    for across, label in geometry.x_ticks:
+        pdf.line(x_of(across), box.y + box.h, x_of(across), box.y + box.h + 1.2)
+        pdf.text(x_of(across) - pdf.get_string_width(label) / 2, box.y + box.h + 4, label)
+    pdf.text(box.x + box.w / 2 - 4, box.y + box.h + 8, "LSF")
+
+    pdf.set_dash_pattern(dash=1.5, gap=1)
+    pdf.set_line_width(0.4)
+    pdf.line(limit_x, box.y, limit_x, box.y + box.h)
+    pdf.set_font(fonts.FAMILY, "B", 7)
+    pdf.text(limit_x + 1, box.y + 3, "limit 2/3")
+    if geometry.min_rollover is not None:
+        up, label = geometry.min_rollover
+        pdf.set_dash_pattern(dash=0.4, gap=0.8)
+        pdf.line(box.x, y_of(up), box.x + box.w, y_of(up))
+        pdf.text(box.x + 1, y_of(up) - 1, label)
+    pdf.set_dash_pattern()
+
+    pdf.set_line_width(0.45)
+    for across, up, point in geometry.points:
+        cx, cy = x_of(across), y_of(up)
+        if point.compliant:
+            pdf.circle(cx, cy, 1.4, style="D")
+        else:
+            pdf.line(cx - 1.4, cy - 1.4, cx + 1.4, cy + 1.4)
+            pdf.line(cx - 1.4, cy + 1.4, cx + 1.4, cy - 1.4)
+        pdf.set_font(fonts.FAMILY, "", 7)
+        label = point.short_label
+        # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
+        below = box.y + box.h - cy > 6
+        pdf.text(cx - pdf.get_string_width(label) / 2, cy + 4.6 if below else cy - 2.4, label)
+    pdf.set_line_width(0.2)
+    return box.x - MAP_LEFT, box.y - MAP_ABOVE, box.w + MAP_LEFT + 2, box.h + MAP_ABOVE + MAP_BELOW

@@ -1,0 +1,132 @@
+"""API shapes of a vehicle's figures beyond the weighing (all optional: only the estimates need them)."""
+
+from __future__ import annotations
+
+from decimal import Decimal
+from typing import Annotated, Any
+
+from pydantic import BaseModel, BeforeValidator, Field, TypeAdapter, WithJsonSchema
+
+from app.numbers import number_only, number_schema
+from app.stability.dynamics import BOUNDS, SEAT_HEIGHT_M
+
+# Decimal places accepted for each figure (metres to 0.1 mm, stiffness to 0.1 N/rad).
+DECIMALS = {
+    "track_m": 4,
+    "wheel_radius_m": 4,
+    "front_cornering_stiffness_n_per_rad": 1,
+    "rear_cornering_stiffness_n_per_rad": 1,
+    "drag_area_m2": 4,
+    "centre_of_pressure_height_m": 4,
+    "cg_height_m": 4,
+    "cg_lift.lift_height_m": 4,
+    "cg_lift.front_kg": 3,
+}
+UNITS = {
+    "track_m": "m",
+    "wheel_radius_m": "m",
+    "front_cornering_stiffness_n_per_rad": "N/rad per tyre",
+    "rear_cornering_stiffness_n_per_rad": "N/rad per tyre",
+    "drag_area_m2": "m²",
+    "centre_of_pressure_height_m": "m",
+    "cg_height_m": "m",
+    "cg_lift.lift_height_m": "m",
+    "cg_lift.front_kg": "kg",
+}
+
+
+def _bounds(name: str) -> tuple[Decimal, Decimal]:
+    low, high, _ = BOUNDS[name]
+    return Decimal(str(low)), Decimal(str(high))
+
+
+def figure_field(name: str, description: str) -> Any:
+    """Pydantic's bounds of one figure: the core's (exclusive minimum, inclusive maximum) and its decimals."""
+    low, high = _bounds(name)
+    return Field(gt=low, le=high, allow_inf_nan=False, decimal_places=DECIMALS[name], description=description)
+
+
+def figure_schema(name: str, description: str) -> WithJsonSchema:
+    """The JSON schema of one figure: a bounded number given to at most its decimals."""
+    low, high = _bounds(name)
+    return WithJsonSchema(
+        {**number_schema(low, high, exclusive=True, decimals=DECIMALS[name]), "description": description}
+    )
+
+
+_TRACK = "Rear track: between the centres of the rear tyres' contact patches (m)."
+_RADIUS = "Loaded rear wheel radius: axle centre to the ground (m)."
+_FRONT = "Cornering stiffness of the front tyre (N/rad)."
+_REAR = "Cornering stiffness of each rear tyre (N/rad)."
+_DRAG = "Drag coefficient times frontal area, Cd x A (m²)."
+_PRESSURE = "Height of the centre of pressure above the ground (m)."
+_ONLY_NUMBERS = BeforeValidator(number_only)
+Track = Annotated[Decimal, _ONLY_NUMBERS, figure_field("track_m", _TRACK), figure_schema("track_m", _TRACK)]
+WheelRadius = Annotated[
+    Decimal, _ONLY_NUMBERS, figure_field("wheel_radius_m", _RADIUS), figure_schema("wheel_radius_m", _RADIUS)
+]
+FrontStiffness = Annotated[
+    Decimal,
+    _ONLY_NUMBERS,
+    figure_field("front_cornering_stiffness_n_per_rad", _FRONT),
+    figure_schema("front_cornering_stiffness_n_per_rad", _FRONT),
+]
+RearStiffness = Annotated[
+    Decimal,
+    _ONLY_NUMBERS,
+    figure_field("rear_cornering_stiffness_n_per_rad", _REAR),
+    figure_schema("rear_cornering_stiffness_n_per_rad", _REAR),
+]
+DragArea = Annotated[
+    Decimal, _ONLY_NUMBERS, figure_field("drag_area_m2", _DRAG), figure_schema("drag_area_m2", _DRAG)
+]
+PressureHeight = Annotated[
+    Decimal,
+    _ONLY_NUMBERS,
+    figure_field("centre_of_pressure_height_m", _PRESSURE),
+    figure_schema("centre_of_pressure_height_m", _PRESSURE),
+]
+SeatHeight = Annotated[
+    Decimal,
+    BeforeValidator(number_only),
+    Field(ge=Decimal(str(SEAT_HEIGHT_M[0])), le=Decimal(str(SEAT_HEIGHT_M[1])), allow_inf_nan=False),
+    WithJsonSchema(
+        {
+            **number_schema(
+                Decimal(str(SEAT_HEIGHT_M[0])), Decimal(str(SEAT_HEIGHT_M[1])), exclusive=False, decimals=4
+            ),
+            "description": "Seated person's CG above the ground (m), some 0.2 m above the seat top.",
+        }
+    ),
+    Field(decimal_places=4),
+]
+
+
+def type_schema(kind: Any) -> dict[str, Any]:
+    """The JSON schema of an annotated type, for hand-written schemas that embed it."""
+    schema: dict[str, Any] = TypeAdapter(kind).json_schema()
+    return schema
+
+
+class VehicleDynamicsIn(BaseModel):
+    """The figures beyond the weighing; each may be left out (its estimates are then unknown)."""
+
+    track_m: Track | None = None
+    wheel_radius_m: WheelRadius | None = None
+    front_cornering_stiffness_n_per_rad: FrontStiffness | None = None
+    rear_cornering_stiffness_n_per_rad: RearStiffness | None = None
+    drag_area_m2: DragArea | None = None
+    centre_of_pressure_height_m: PressureHeight | None = None
+
+
+class VehicleDynamicsOut(BaseModel):
+    """The vehicle's figures in force: revision 1 at registration, one more for every change."""
+
+    revision: int
+    track_m: float | None
+    wheel_radius_m: float | None
+    seat_heights_m: list[float | None]
+    front_cornering_stiffness_n_per_rad: float | None
+    rear_cornering_stiffness_n_per_rad: float | None
+    drag_area_m2: float | None
+    centre_of_pressure_height_m: float | None

@@ -1,0 +1,159 @@
+"""The vehicle's figures for the estimates: a page form that records a new revision (the old ones stay)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from decimal import Decimal
+
+from fastapi import APIRouter
+from starlette.datastructures import FormData
+from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
+
+from app.accounts.sessions import set_flash
+from app.errors import NotFound, ServiceError
+from app.vehicles.dynamics_models import DYNAMICS_FIELDS
+from app.vehicles.dynamics_service import DynamicsFigures, record_figures, revision_figures, seat_heights
+from app.vehicles.models import Vehicle
+from app.vehicles.service import display_registration, find_vehicle
+from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.forms import FormErrors, parse_decimal, text
+from app.web.templating import render
+
+router = APIRouter(prefix="/vehicles", include_in_schema=False)
+
+# Each figure: its label with the unit, its hint, and the example in the message when it is not a number.
+LABELS = {
+    "track_m": ("Rear track (m)", "Between the centres of the two rear tyres, like 1.150"),
+    "wheel_radius_m": ("Loaded rear wheel radius (m)", "From the rear axle centre to the ground, like 0.190"),
+    "front_cornering_stiffness_n_per_rad": (
+        "Front tyre cornering stiffness (N/rad)",
+        "From the tyre maker or a test, like 8000; an estimate",
+    ),
+    "rear_cornering_stiffness_n_per_rad": (
+        "Each rear tyre's cornering stiffness (N/rad)",
+        "From the tyre maker or a test, like 8000; an estimate",
+    ),
+    "drag_area_m2": ("Drag area, Cd × A (m²)", "Drag coefficient times frontal area, like 1.6; an estimate"),
+    "centre_of_pressure_height_m": (
+        "Centre of pressure height (m)",
+        "Where the wind's force acts, above the ground, like 0.900; an estimate",
+    ),
+}
+SEAT_HINT = "The seated person's centre of gravity above the ground, some 0.2 m above the seat top, like 0.75"
+
+
+def seat_input(index: int) -> str:
+    """The input of one seat's height."""
+    return f"seat_z_m_{index}"
+
+
+@dataclass
+class FiguresForm:
+    """The parsed form, its raw values and its errors."""
+
+    values: dict[str, str]
+    errors: FormErrors = field(default_factory=FormErrors)
+    figures: DynamicsFigures | None = None
+
+
+def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
+    """Parse the form; a blank field is a figure not known."""
+    errors = FormErrors()
+    names = [*DYNAMICS_FIELDS, *(seat_input(i) for i in range(seat_count))]
+    values = {name: text(form, name, errors, limit=20) for name in names}
+    parsed: dict[str, Decimal | None] = {}
+    for name in names:
+        parsed[name] = parse_decimal(values[name]) if values[name] else None
+        if values[name] and parsed[name] is None and name not in errors.messages:
+            label = LABELS[name][0] if name in LABELS else "seated height (m)"
+            errors.add(name, f"Enter the {label[0].lower()}{label[1:]} as a number, or leave it blank")
+    result = FiguresForm(values=values, errors=errors)
+    if not errors:
+        result.figures = DynamicsFigures(
+            seat_heights_m=seat_heights([parsed[seat_input(i)] for i in range(seat_count)]),
+            **{name: parsed[name] for name in DYNAMICS_FIELDS},
+        )
+    return result
+
+
+def _vehicle(session: SessionDep, registration_key: str) -> Vehicle:
+    vehicle = find_vehicle(session, registration_key)
+    if vehicle is None:
+        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+    return vehicle
+
+
+def current_values(vehicle: Vehicle) -> dict[str, str]:
+    """The form pre-filled with the figures in force."""
+    revisions = vehicle.dynamics_revisions
+    figures = revision_figures(revisions[-1] if revisions else None)
+    values = {name: _shown(getattr(figures, name)) for name in DYNAMICS_FIELDS}
+    for index in range(len(vehicle.seats)):
+        heights = figures.seat_heights_m
+        values[seat_input(index)] = _shown(heights[index] if index < len(heights) else None)
+    return values
+
+
+def _shown(value: Decimal | None) -> str:
+    return "" if value is None else f"{value.normalize():f}"
+
+
+def _page(
+    request: Request, vehicle: Vehicle, values: dict[str, str], errors: FormErrors, status: int
+) -> Response:
+    return render(
+        request,
+        "vehicles/dynamics.html",
+        {
+            "vehicle": vehicle,
+            "values": values,
+            "errors": errors.messages,
+            "labels": LABELS,
+            "seat_hint": SEAT_HINT,
+        },
+        status_code=status,
+    )
+
+
+@router.get("/{registration_key}/dynamics")
+def figures_form(
+    request: Request, session: SessionDep, login: CurrentLogin, registration_key: str
+) -> Response:
+    """The form with the vehicle's figures for the estimates, as in force."""
+    vehicle = _vehicle(session, registration_key)
+    return _page(request, vehicle, current_values(vehicle), FormErrors(), 200)
+
+
+@router.post("/{registration_key}/dynamics")
+def change_figures(
+    request: Request, session: SessionDep, login: PostLogin, form: FormDep, registration_key: str
+) -> Response:
+    """Record the figures as a new revision (unchanged figures record nothing), or show the problems."""
+    vehicle = _vehicle(session, registration_key)
+    parsed = read_figures_form(form, len(vehicle.seats))
+    if parsed.figures is not None:
+        revisions = vehicle.dynamics_revisions
+        if parsed.figures == revision_figures(revisions[-1] if revisions else None):
+            set_flash(session, login, "The figures for the estimates are unchanged.")
+            return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
+        try:
+            revision = record_figures(session, vehicle, parsed.figures)
+        except ServiceError as error:
+            input_for = {name: name for name in DYNAMICS_FIELDS}
+            input_for.update({f"seats[{i}].z_m": seat_input(i) for i in range(len(vehicle.seats))})
+            parsed.errors.add_problems(error.problems, input_for, DYNAMICS_FIELDS[0])
+        else:
+            set_flash(session, login, f"Figures for the estimates recorded (revision {revision.revision}).")
+            return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
+    return _page(request, vehicle, parsed.values, parsed.errors, 422)
+
+
+def figures_rows(vehicle: Vehicle) -> dict[str, object]:
+    """The vehicle page's summary of the figures in force: (label, value) rows and the revision."""
+    revisions = vehicle.dynamics_revisions
+    values = current_values(vehicle)
+    rows = [(LABELS[name][0], values[name] or "Not known") for name in DYNAMICS_FIELDS]
+    heights = [values[seat_input(i)] or "Not known" for i in range(len(vehicle.seats))]
+    rows.insert(2, ("Seated heights, driver first (m)", ", ".join(heights)))
+    return {"rows": rows, "revision": revisions[-1].revision if revisions else None}
