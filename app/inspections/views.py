@@ -20,6 +20,7 @@ from app.errors import NotFound, ServiceError
 from app.ids import IdChoice, InspectionId, PageNumber, parse_id
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
+from app.inspections.remedy_page import remedies_context
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
 from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
@@ -169,9 +170,12 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
 def inspection_page(
     request: Request, session: SessionDep, login: CurrentLogin, inspection_id: InspectionId
 ) -> Response:
-    """Table 4, the verdict in words, the certified occupancy and the chart."""
+    """Table 4, the verdict in words, the certified occupancy, the chart and what would make it comply."""
     inspection = get_inspection(session, inspection_id)
     context = result_context(session, inspection)
+    remedies, remedy_errors = (
+        (None, None) if inspection.compliant else remedies_context(inspection, request.query_params)
+    )
     certificates = certificates_of_inspection(session, inspection.id)
     context.update(
         recorded_by=recorded_by(session, inspection),
@@ -187,8 +191,10 @@ def inspection_page(
             )
             for certificate, _status in certificates
         },
+        remedies=remedies,
+        errors=remedy_errors.messages if remedy_errors else {},
     )
-    return render(request, "inspections/show.html", context)
+    return render(request, "inspections/show.html", context, status_code=422 if remedy_errors else 200)
 
 
 VERDICTS = {"": None, "compliant": True, "not-compliant": False}

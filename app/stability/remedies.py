@@ -203,3 +203,34 @@ def size_remedies(
 def complies(lsf: Fraction) -> bool:
     """The verdict on an LSF after a remedy: strictly below 2/3."""
     return lsf < LSF_LIMIT
+
+
+@dataclass(frozen=True)
+class Advice:
+    """The advised figures of sized remedies, as a document prints and keeps them (None: not advised)."""
+
+    target_occupants: int
+    compliant: bool
+    max_compliant_occupants: int
+    ballast_x_m: Decimal
+    ballast_kg: Decimal | None  # None with ballast_possible False: ballast there cannot help
+    ballast_possible: bool
+    seat_shift_m: Decimal | None  # None: no case with passengers needs it, or none can be mended
+    seat_shift_unfixable: tuple[int, ...]
+    tyre_ratio: Decimal | None
+
+
+def advice_of(remedies: Remedies) -> Advice:
+    """The advised figures of sized remedies: each the least step above its exact bound."""
+    ballast, shift, tyres = remedies.ballast, remedies.seat_shift, remedies.rear_tyre_ratio
+    return Advice(
+        target_occupants=remedies.target_occupants,
+        compliant=remedies.compliant,
+        max_compliant_occupants=remedies.max_compliant_occupants,
+        ballast_x_m=remedies.ballast_x_m,
+        ballast_kg=as_decimal(ballast.advised, BALLAST_STEP) if ballast and ballast.advised else None,
+        ballast_possible=ballast is None or ballast.possible,
+        seat_shift_m=as_decimal(shift.advised, SHIFT_STEP) if shift and shift.advised else None,
+        seat_shift_unfixable=shift.unfixable_occupants if shift else (),
+        tyre_ratio=as_decimal(tyres.advised, RATIO_STEP) if tyres and tyres.advised else None,
+    )
