@@ -1,4 +1,4 @@
-"""The inspection page's "What would make it comply": the sentence, the form (GET) and its errors, the chart."""
+"""The inspection page's "What would make it comply": the sentence, the GET form and its errors, the chart."""
 
 from __future__ import annotations
 
@@ -69,7 +69,8 @@ def test_the_study_vehicle_page_says_what_would_make_it_comply(web: TestClient, 
     assert "after fitting 54.64 kg of ballast 0.30 m behind the front wheel" in chart
     assert chart.count('data-series="before"') == 5
     assert chart.count('data-series="after"') == 5
-    assert 'value="4"' in page.text and 'value="0.30"' in page.text
+    assert 'value="4"' in page.text
+    assert 'value="0.30"' in page.text
 
 
 def test_the_form_changes_the_target_the_position_and_the_chart(web: TestClient, study: Inspection) -> None:
@@ -136,7 +137,8 @@ def test_a_bad_value_is_named_beside_its_field_and_kept(
     assert page.status_code == 422
     assert f'<a href="#{input_id}">{message}' in page.text  # the summary links to the field
     beside = re.search(rf'<p id="{input_id}-error" class="error-message">(.*?)</p>', page.text, re.S)
-    assert beside is not None and message in beside.group(1)
+    assert beside is not None
+    assert message in beside.group(1)
     if input_id != "remedy-ballast":
         assert f'value="{next(iter(params.values()))}"' in page.text
         assert f'aria-describedby="{input_id}-hint {input_id}-error"' in page.text
