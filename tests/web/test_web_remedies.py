@@ -80,9 +80,9 @@ def test_the_form_changes_the_target_the_position_and_the_chart(web: TestClient,
     )
     assert page.status_code == 200
     assert sentence(page.text) == (
-        "Carry no more than the driver; or fit more than 13.92 kg of ballast 0.20 m ahead of the front wheel; or "
-        "move the rear bench 0.191 m forward, which still leaves the empty vehicle non-compliant; or fit rear "
-        "tyres at least 1.147 times as stiff in cornering as the front."
+        "Carry no more than the driver; or fit more than 13.92 kg of ballast 0.20 m ahead of the front "
+        "wheel; or move the rear bench 0.191 m forward, which still leaves the empty vehicle non-compliant; "
+        "or fit rear tyres at least 1.147 times as stiff in cornering as the front."
     )
     assert len(remedy_rows(page.text)) == 3
     assert "after moving the rear bench 0.191 m forward" in page.text
@@ -93,8 +93,8 @@ def test_ballast_behind_two_thirds_says_it_cannot_help(web: TestClient, study: I
     page = web.get(f"/inspections/{study.id}", params={"ballast_x_m": "1.5"})
     assert page.status_code == 200
     assert sentence(page.text).endswith(
-        "Ballast 1.50 m behind the front wheel cannot help: it must sit less than two thirds of the wheelbase "
-        "behind the front wheel."
+        "Ballast 1.50 m behind the front wheel cannot help: it must sit less than two thirds of the "
+        "wheelbase behind the front wheel."
     )
     assert "Fitting front ballast cannot make every case comply, so there is nothing to chart." in page.text
 
