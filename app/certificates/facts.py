@@ -15,8 +15,10 @@ from sqlalchemy.orm import Session
 
 from app.certificates.actors import NOT_RECORDED, officer_of, station_shown_as
 from app.inspections.models import Inspection
-from app.inspections.wording import occupancy_sentence, verdict_sentence
+from app.inspections.remedies import stored_assessment
+from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 from app.stability import case_label
+from app.stability.remedies import Advice, advice_of, size_remedies
 
 WHEEL_NAMES = {
     "front_kg": "Front wheel",
@@ -89,6 +91,14 @@ class Facts:
     verdict: str
     occupancy: str
     issued_by: str | None = None  # by name and badge; None in snapshots made before it was kept
+    # A refusal's advised remedies at the default target and ballast position; None on a certificate
+    # and in snapshots made before remedies were sized.
+    remedies: Advice | None = None
+
+    @property
+    def remedies_sentence(self) -> str | None:
+        """What would make the vehicle comply, in the one wording of the pages."""
+        return None if self.remedies is None else remedies_sentence(self.remedies)
 
     @property
     def recorded_by(self) -> str:
@@ -159,7 +169,29 @@ class Facts:
             verdict=verdict_sentence([(c.occupants, c.compliant) for c in cases], best),
             occupancy=occupancy_sentence(data["compliant"], best),
             issued_by=data.get("issued_by"),
+            remedies=_advice(data.get("remedies")),
         )
+
+
+def _advice(data: dict[str, Any] | None) -> Advice | None:
+    """The advised remedies back from their stored JSON (decimals as text)."""
+    if data is None:
+        return None
+
+    def figure(name: str) -> Decimal | None:
+        return None if data[name] is None else Decimal(data[name])
+
+    return Advice(
+        target_occupants=data["target_occupants"],
+        compliant=data["compliant"],
+        max_compliant_occupants=data["max_compliant_occupants"],
+        ballast_x_m=Decimal(data["ballast_x_m"]),
+        ballast_kg=figure("ballast_kg"),
+        ballast_possible=data["ballast_possible"],
+        seat_shift_m=figure("seat_shift_m"),
+        seat_shift_unfixable=tuple(data["seat_shift_unfixable"]),
+        tyre_ratio=figure("tyre_ratio"),
+    )
 
 
 def _plain(value: Any) -> Any:
@@ -214,9 +246,17 @@ def calibration_words(certificate: str | None, valid_until: date | None) -> str 
 
 
 def facts_of(
-    session: Session, inspection: Inspection, *, authority: str, issued_by: str | None = None
+    session: Session,
+    inspection: Inspection,
+    *,
+    authority: str,
+    issued_by: str | None = None,
+    ballast_x_m: Decimal = Decimal("0.30"),
 ) -> Facts:
-    """The snapshot of an inspection's facts to certify; `issued_by` names the issuer as printed."""
+    """The snapshot of an inspection's facts to certify; `issued_by` names the issuer as printed.
+
+    A refusal also keeps its remedies, sized for every seat filled with ballast at `ballast_x_m`.
+    """
     vehicle = inspection.vehicle
     officer = officer_of(session, inspection)
     cases = tuple(
@@ -261,4 +301,7 @@ def facts_of(
         ),
         occupancy=occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
         issued_by=issued_by,
+        remedies=None
+        if inspection.compliant
+        else advice_of(size_remedies(stored_assessment(inspection), ballast_x_m=ballast_x_m)),
     )
