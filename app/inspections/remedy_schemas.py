@@ -59,9 +59,9 @@ class CaseRemediesOut(BaseModel):
     ballast_kg: float | None = Field(description="Null when the case complies or ballast there cannot help.")
     seat_shift_m: float | None = Field(description="Null when the case complies or carries no passenger.")
     tyre_ratio: float = Field(description="The CaR / CaF above which this case understeers (rounded up).")
-    lsf_after_ballast: float | None
-    compliant_after_ballast: bool | None
-    lsf_after_seat_shift: float | None
+    lsf_after_ballast: float | None = Field(description="With the advised ballast fitted, to 6 decimals.")
+    compliant_after_ballast: bool | None = Field(description="Decided on the exact LSF after the ballast.")
+    lsf_after_seat_shift: float | None = Field(description="With the seats moved as advised, to 6 decimals.")
     compliant_after_seat_shift: bool | None
 
 
@@ -92,9 +92,9 @@ STUDY_REMEDIES_EXAMPLE: dict[str, Any] = {
             "ballast_kg": 20.65,
             "seat_shift_m": None,
             "tyre_ratio": 1.147,
-            "lsf_after_ballast": 0.6242,
+            "lsf_after_ballast": 0.624205,
             "compliant_after_ballast": True,
-            "lsf_after_seat_shift": 0.6964,
+            "lsf_after_seat_shift": 0.696379,
             "compliant_after_seat_shift": False,
         }
     ],
@@ -121,7 +121,8 @@ def _figure(value: Fraction | None, step: Fraction) -> float | None:
 
 
 def _lsf(value: Fraction | None) -> float | None:
-    return None if value is None else float(round(value, 4))
+    # Six places: the advised remedy leaves the binding case just below 2/3, which four would round up.
+    return None if value is None else float(round(value, 6))
 
 
 def _verdict(value: Fraction | None) -> bool | None:
