@@ -20,6 +20,7 @@ from app.web.forms import FormErrors, parse_decimal, query_text, readable
 
 REMEDIES = {"ballast": "Fitting front ballast", "seat_shift": "Moving the rear bench forward"}
 FIELDS = ("target_occupants", "ballast_x_m", "remedy")
+INPUT_IDS = {"target_occupants": "target_occupants", "ballast_x_m": "ballast_x_m", "remedy": "remedy-ballast"}
 
 
 @dataclass(frozen=True)
@@ -33,7 +34,7 @@ class RemedyChoice:
 
 def read_choice(query: QueryParams, seats: int, errors: FormErrors) -> tuple[RemedyChoice, dict[str, str]]:
     """The form's values as typed and what they ask for; a bad value is named beside its field."""
-    values = {name: query_text(query.get(name, ""), name, errors, limit=20) for name in FIELDS}
+    values = {name: query_text(query.get(name, ""), INPUT_IDS[name], errors, limit=20) for name in FIELDS}
     target: int | None = None
     if values["target_occupants"]:
         typed = values["target_occupants"]
