@@ -16,8 +16,7 @@ from app.config import get_settings
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
-from web.test_web_accessibility import AXE_PATH, axe_violations
-from web.webtools import OFFICER_EMAIL, PASSWORD, REPO
+from web.webtools import AXE_PATH, OFFICER_EMAIL, PASSWORD, REPO, axe_violations
 
 pytestmark = pytest.mark.browser
 
