@@ -7,6 +7,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query, status
 from fastapi.responses import Response
+from pydantic import WithJsonSchema
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
@@ -36,7 +37,7 @@ from app.inspections.service import (
     list_inspections,
     record_inspection,
 )
-from app.numbers import LIMITS
+from app.numbers import LIMITS, POSITION_SCHEMA
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
@@ -235,6 +236,9 @@ def read_remedies(
     ] = None,
     ballast_x_m: Annotated[
         Decimal | None,
+        # A JSON number in the schema, as the body's positions are (the default Decimal schema
+        # also admits any string).
+        WithJsonSchema(POSITION_SCHEMA),
         Query(
             ge=-LIMITS.seat_reach_m,
             le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m,
