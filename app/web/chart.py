@@ -193,7 +193,7 @@ def polyline(
 def series(
     plot: Plot, points: Sequence[ChartPoint], *, shift: float = 0.0, muted: bool = False, name: str = ""
 ) -> list[str]:
-    """One line of cases: a polyline and each case's marker, marked C or NC (muted: hollow, dashed, unmarked)."""
+    """One line of cases: a polyline and each marker, marked C or NC (muted: hollow, dashed, unmarked)."""
     parts = []
     if len(points) > 1:
         values = [p.lsf for p in points]
