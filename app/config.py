@@ -62,6 +62,9 @@ class Settings(BaseSettings):
     signing_key: SecretStr | None = None
     # Pages show times and count "today" in this zone; everything is stored in UTC.
     display_timezone: str = "Africa/Lagos"
+    # Where the remedies place front ballast unless asked otherwise: metres behind the front wheel
+    # centre (negative: ahead of it, a bumper or a battery tray).
+    ballast_x_m: Decimal = Field(default=Decimal("0.30"), ge=-1, le=5, decimal_places=4)
     # Weighbridge stations: settling of repeated readings, scale calibration, rate limit, idempotency keys.
     max_reading_spread_kg: Decimal = Field(default=Decimal("2"), gt=0, le=100)
     require_calibration: bool = False  # refuse stations with no calibration on record

@@ -16,8 +16,10 @@ from sqlalchemy.orm import Session
 from app.certificates.actors import NOT_RECORDED, officer_of, station_shown_as
 from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
-from app.inspections.wording import occupancy_sentence, verdict_sentence
+from app.inspections.remedies import stored_assessment
+from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 from app.stability import case_label
+from app.stability.remedies import Advice, advice_of, size_remedies
 
 WHEEL_NAMES = {
     "front_kg": "Front wheel",
@@ -91,6 +93,14 @@ class Facts:
     occupancy: str
     issued_by: str | None = None  # by name and badge; None in snapshots made before it was kept
     estimates: EstimateFacts | None = None  # beyond the static test, shown, never certified
+    # A refusal's advised remedies at the default target and ballast position; None on a certificate
+    # and in snapshots made before remedies were sized.
+    remedies: Advice | None = None
+
+    @property
+    def remedies_sentence(self) -> str | None:
+        """What would make the vehicle comply, in the one wording of the pages."""
+        return None if self.remedies is None else remedies_sentence(self.remedies)
 
     @property
     def recorded_by(self) -> str:
@@ -162,7 +172,29 @@ class Facts:
             occupancy=occupancy_sentence(data["compliant"], best),
             issued_by=data.get("issued_by"),
             estimates=estimates_from_json(data.get("estimates")),
+            remedies=_advice(data.get("remedies")),
         )
+
+
+def _advice(data: dict[str, Any] | None) -> Advice | None:
+    """The advised remedies back from their stored JSON (decimals as text)."""
+    if data is None:
+        return None
+
+    def figure(name: str) -> Decimal | None:
+        return None if data[name] is None else Decimal(data[name])
+
+    return Advice(
+        target_occupants=data["target_occupants"],
+        compliant=data["compliant"],
+        max_compliant_occupants=data["max_compliant_occupants"],
+        ballast_x_m=Decimal(data["ballast_x_m"]),
+        ballast_kg=figure("ballast_kg"),
+        ballast_possible=data["ballast_possible"],
+        seat_shift_m=figure("seat_shift_m"),
+        seat_shift_unfixable=tuple(data["seat_shift_unfixable"]),
+        tyre_ratio=figure("tyre_ratio"),
+    )
 
 
 def _plain(value: Any) -> Any:
@@ -217,9 +249,17 @@ def calibration_words(certificate: str | None, valid_until: date | None) -> str 
 
 
 def facts_of(
-    session: Session, inspection: Inspection, *, authority: str, issued_by: str | None = None
+    session: Session,
+    inspection: Inspection,
+    *,
+    authority: str,
+    issued_by: str | None = None,
+    ballast_x_m: Decimal = Decimal("0.30"),
 ) -> Facts:
-    """The snapshot of an inspection's facts to certify; `issued_by` names the issuer as printed."""
+    """The snapshot of an inspection's facts to certify; `issued_by` names the issuer as printed.
+
+    A refusal also keeps its remedies, sized for every seat filled with ballast at `ballast_x_m`.
+    """
     vehicle = inspection.vehicle
     officer = officer_of(session, inspection)
     cases = tuple(
@@ -265,4 +305,7 @@ def facts_of(
         occupancy=occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
         issued_by=issued_by,
         estimates=estimate_facts(inspection),
+        remedies=None
+        if inspection.compliant
+        else advice_of(size_remedies(stored_assessment(inspection), ballast_x_m=ballast_x_m)),
     )

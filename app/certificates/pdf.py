@@ -23,6 +23,8 @@ from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, r
 QR_BOX = 56.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.86 mm modules
 QR_QUIET = 4  # modules of quiet zone on each side, as the QR standard asks
 QR_MASK = 1
+REMEDIES_CHART_W = 72.0  # mm: a refusal's chart, with the remedies in the column beside it
+NARROW_CHART_CASES = 7  # up to this many cases, the narrow chart keeps its case names apart
 COMPACT_AFTER = 6  # more failing cases than this: the reasons in one paragraph
 TABLE_HEADINGS = (
     "Occupants",
@@ -292,15 +294,29 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
         pdf.new_page()
         height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
         assert height is not None
+    remedies = document.facts.remedies_sentence if document.kind == "refusal" else None
     top = pdf.box(MARGIN, pdf.get_y() + 3, 120, "LSF per loading case against the limit 2/3", 11, bold=True)
-    area = draw_chart(pdf, Box(MARGIN + 12, top + 1, 100, height), document.facts.cases)
+    # A refusal's remedies stand beside a narrower chart, under the rules, so the page stays one page.
+    narrow = remedies and len(document.facts.cases) <= NARROW_CHART_CASES
+    width = REMEDIES_CHART_W if narrow else 100
+    area = draw_chart(pdf, Box(MARGIN + 12, top + 1, width, height), document.facts.cases)
     pdf.region("chart", *area)
     rules = (
         f"Decided under rules {document.facts.inspection.rules_version}: a loading case complies only if "
         "its LSF is below 2/3, decided exactly; figures are rounded for display."
     )
     beside = area[0] + area[2] + 4
-    pdf.box(beside, area[1] + 6, PAGE_W - MARGIN - beside, rules, 7.5)
+    column = PAGE_W - MARGIN - beside
+    y = pdf.box(beside, area[1] + 6, column, rules, 7.5)
+    if not remedies:
+        return
+    paragraph = f"What would make it comply: {remedies}"
+    if y + 2 + pdf.measure(column, paragraph, 7.5) <= area[1] + area[3]:
+        pdf.box(beside, y + 2, column, paragraph, 7.5)
+        return
+    pdf.set_xy(MARGIN, area[1] + area[3] + 2)
+    pdf.room(pdf.measure(CONTENT_W, paragraph, 8.5))
+    pdf.box(MARGIN, pdf.get_y(), CONTENT_W, paragraph, 8.5)
     pdf.set_xy(MARGIN, area[1] + area[3] + 3)
 
 

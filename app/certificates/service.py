@@ -221,7 +221,13 @@ def _create(
     if settings.require_calibration and inspection.calibration_valid_until is None:
         session.rollback()  # the number allocated is not used
         raise calibration_required(inspection)
-    facts = facts_of(session, inspection, authority=settings.issuing_authority, issued_by=actor.shown_as)
+    facts = facts_of(
+        session,
+        inspection,
+        authority=settings.issuing_authority,
+        issued_by=actor.shown_as,
+        ballast_x_m=settings.ballast_x_m,
+    )
     kind = "compliant" if facts.compliant else "refusal"
     signer = current_signer(session, settings)
     claims = Claims(

@@ -7,6 +7,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query, status
 from fastapi.responses import Response
+from pydantic import WithJsonSchema
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
@@ -18,6 +19,8 @@ from app.ids import InspectionId
 from app.inspections.dynamics import CgLift
 from app.inspections.dynamics_api import case_dynamics_out
 from app.inspections.models import Inspection
+from app.inspections.remedies import inspection_remedies
+from app.inspections.remedy_schemas import RemediesOut, remedies_out
 from app.inspections.schemas import (
     AveragedReadingsOut,
     CalibrationOut,
@@ -36,6 +39,7 @@ from app.inspections.service import (
     list_inspections,
     record_inspection,
 )
+from app.numbers import LIMITS, POSITION_SCHEMA
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
@@ -219,6 +223,50 @@ def read_inspection(
 ) -> InspectionOut:
     """The inspection as decided when it was stored; a station reads only its own (others: 404)."""
     return inspection_out(get_inspection(session, inspection_id, station_id=station.id))
+
+
+@router.get(
+    "/{inspection_id}/remedies",
+    response_model=RemediesOut,
+    responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
+    summary="What would make the vehicle comply: front ballast, seats forward, stiffer rear tyres",
+)
+def read_remedies(
+    inspection_id: InspectionId,
+    session: SessionDep,
+    station: StationDep,
+    target_occupants: Annotated[
+        int | None,
+        Query(
+            ge=0, le=LIMITS.max_seats, description="Occupants to certify for (default: every seat filled)."
+        ),
+    ] = None,
+    ballast_x_m: Annotated[
+        Decimal | None,
+        # A JSON number in the schema, as the body's positions are (the default Decimal schema
+        # also admits any string).
+        WithJsonSchema(POSITION_SCHEMA),
+        Query(
+            ge=-LIMITS.seat_reach_m,
+            le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m,
+            allow_inf_nan=False,
+            description="Where the ballast sits, metres behind the front wheel centre (negative: ahead of "
+            "it); default TRIKECERT_BALLAST_X_M.",
+        ),
+    ] = None,
+) -> RemediesOut:
+    """Each remedy sized for every loading case up to the target, from the stored readings (exact;
+    advised figures rounded up so they suffice); every remedy null when the cases already comply.
+    A station reads only its own inspections (others: 404); a target above the seats is a 422."""
+    settings = get_settings()
+    inspection = get_inspection(session, inspection_id, station_id=station.id)
+    remedies = inspection_remedies(
+        inspection,
+        target_occupants=target_occupants,
+        ballast_x_m=settings.ballast_x_m if ballast_x_m is None else ballast_x_m,
+        rules=settings.rules(),
+    )
+    return remedies_out(remedies)
 
 
 @router.get(

@@ -21,6 +21,7 @@ from app.ids import IdChoice, InspectionId, PageNumber, parse_id
 from app.inspections.dynamics_views import dynamics_context
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
+from app.inspections.remedy_page import remedies_context
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
 from app.inspections.wording import occupancy_sentence, verdict_sentence
 from app.stability import case_label
@@ -170,9 +171,12 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
 def inspection_page(
     request: Request, session: SessionDep, login: CurrentLogin, inspection_id: InspectionId
 ) -> Response:
-    """Table 4, the verdict in words, the certified occupancy and the chart."""
+    """Table 4, the verdict in words, the certified occupancy, the chart and what would make it comply."""
     inspection = get_inspection(session, inspection_id)
     context = result_context(session, inspection)
+    remedies, remedy_errors = (
+        (None, None) if inspection.compliant else remedies_context(inspection, request.query_params)
+    )
     certificates = certificates_of_inspection(session, inspection.id)
     context.update(dynamics_context(inspection))
     context.update(
@@ -189,8 +193,10 @@ def inspection_page(
             )
             for certificate, _status in certificates
         },
+        remedies=remedies,
+        errors=remedy_errors.messages if remedy_errors else {},
     )
-    return render(request, "inspections/show.html", context)
+    return render(request, "inspections/show.html", context, status_code=422 if remedy_errors else 200)
 
 
 VERDICTS = {"": None, "compliant": True, "not-compliant": False}

@@ -6,7 +6,10 @@ Numbers follow the GOV.UK style: "one", then numerals (2, 3, ... 12).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from decimal import Decimal
 from typing import Literal
+
+from app.stability.remedies import Advice
 
 DocumentKind = Literal["compliant", "refusal"]
 DocumentStatus = Literal["issued", "revoked", "superseded", "expired"]
@@ -143,3 +146,64 @@ def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> st
     if max_compliant_occupants == 1:
         return "Vehicles of this model must not carry passengers"
     return f"Vehicles of this model may carry {occupancy_limit(max_compliant_occupants)}, no more"
+
+
+def _position(x_m: Decimal) -> str:
+    """Where ballast sits, in words: '0.30 m behind the front wheel', '0.20 m ahead of the front wheel'."""
+    places = max(2, -int(x_m.normalize().as_tuple().exponent))
+    distance = f"{abs(x_m):.{places}f} m"
+    if x_m == 0:
+        return "over the front wheel"
+    return f"{distance} {'behind' if x_m > 0 else 'ahead of'} the front wheel"
+
+
+def _case_left(occupants: int) -> str:
+    """A loading case a remedy leaves unfixed: 'the empty vehicle', 'the driver alone'."""
+    return "the empty vehicle" if occupants == 0 else f"the vehicle with {occupancy(occupants)}"
+
+
+def remedy_options(advice: Advice) -> list[str]:
+    """Each way to make every case up to the target comply, in words an owner understands."""
+    if advice.compliant:
+        return []
+    options = []
+    best = advice.max_compliant_occupants
+    if 1 <= best < advice.target_occupants:
+        limit = "the driver" if best == 1 else f"the driver and {passengers(best - 1)}"
+        options.append(f"carry no more than {limit}")
+    if advice.ballast_kg is not None:
+        options.append(f"fit more than {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}")
+    if advice.seat_shift_m is not None:
+        option = f"move the rear bench {advice.seat_shift_m} m forward"
+        if advice.seat_shift_unfixable:
+            left = " and ".join(_case_left(n) for n in advice.seat_shift_unfixable)
+            option += f", which still leaves {left} non-compliant"
+        options.append(option)
+    if advice.tyre_ratio is not None:
+        options.append(
+            f"fit rear tyres at least {advice.tyre_ratio} times as stiff in cornering as the front"
+        )
+    return options
+
+
+def remedies_sentence(advice: Advice) -> str:
+    """The remedies in one sentence: 'Carry no more than the driver; or fit more than 54.64 kg of ...'."""
+    if advice.compliant:
+        return f"Nothing: every loading case up to {occupancy(advice.target_occupants)} already complies."
+    text = "; or ".join(remedy_options(advice))
+    sentence = f"{text[:1].upper()}{text[1:]}." if text else ""
+    if not advice.ballast_possible:
+        sentence += (
+            f" Ballast {_position(advice.ballast_x_m)} cannot help: it must sit less than two thirds of the "
+            "wheelbase behind the front wheel."
+        )
+    return sentence.strip()
+
+
+def remedy_applied(advice: Advice, remedy: str) -> str | None:
+    """One advised remedy as done: 'after fitting 54.64 kg of ballast 0.30 m behind the front wheel'."""
+    if remedy == "ballast" and advice.ballast_kg is not None:
+        return f"after fitting {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}"
+    if remedy == "seat_shift" and advice.seat_shift_m is not None:
+        return f"after moving the rear bench {advice.seat_shift_m} m forward"
+    return None

@@ -55,31 +55,39 @@ def _text(x: float, y: float, content: str, *, anchor: str = "middle", size: int
     )
 
 
-def marker(x: float, y: float, compliant: bool) -> str:
-    """A case's marker: a green circle when compliant, a red cross when not."""
+def marker(x: float, y: float, compliant: bool, *, hollow: bool = False) -> str:
+    """A case's marker: a green circle when compliant, a red cross when not (hollow: grey, smaller)."""
     if compliant:
+        fill, stroke = ("#ffffff", "#505a5f") if hollow else ("#00703c", "#ffffff")
         return (
-            f'<circle class="chart__c" cx="{x:.1f}" cy="{y:.1f}" r="7" '
-            'fill="#00703c" stroke="#ffffff" stroke-width="2"/>'
+            f'<circle class="chart__c" cx="{x:.1f}" cy="{y:.1f}" r="{6 if hollow else 7}" '
+            f'fill="{fill}" stroke="{stroke}" stroke-width="2"/>'
         )
-    d = 7
+    d = 6 if hollow else 7
     return (
         f'<path class="chart__nc" d="M{x - d:.1f} {y - d:.1f} L{x + d:.1f} {y + d:.1f} '
-        f'M{x - d:.1f} {y + d:.1f} L{x + d:.1f} {y - d:.1f}" stroke="#b10e1e" stroke-width="4" '
-        f'stroke-linecap="round" fill="none"/>'
+        f'M{x - d:.1f} {y + d:.1f} L{x + d:.1f} {y - d:.1f}" stroke="{"#505a5f" if hollow else "#b10e1e"}" '
+        f'stroke-width="{2.5 if hollow else 4}" stroke-linecap="round" fill="none"/>'
     )
+
+
+def case_list(points: Sequence[ChartPoint]) -> str:
+    """Every case's LSF and verdict in words: 'Driver: 0.658, C (compliant); ...'."""
+    return "; ".join(
+        f"{p.long_label}: {p.lsf:.3f}, {'C (compliant)' if p.compliant else 'NC (not compliant)'}"
+        for p in points
+    )
+
+
+INTRODUCTION = (
+    f"Lateral Stability Factor for each loading case against the limit of 2/3 ({LIMIT_TEXT}); "
+    "a case above the line is unstable."
+)
 
 
 def describe(points: Sequence[ChartPoint]) -> str:
     """The chart's text alternative: every case's LSF and verdict, and the limit."""
-    cases = "; ".join(
-        f"{p.long_label}: {p.lsf:.3f}, {'C (compliant)' if p.compliant else 'NC (not compliant)'}"
-        for p in points
-    )
-    return (
-        f"Lateral Stability Factor for each loading case against the limit of 2/3 ({LIMIT_TEXT}); "
-        f"a case above the line is unstable. {cases}."
-    )
+    return f"{INTRODUCTION} {case_list(points)}."
 
 
 @dataclass(frozen=True)
@@ -175,10 +183,17 @@ def chart_close(plot: Plot) -> list[str]:
 
 
 def polyline(
-    plot: Plot, values: Sequence[float], *, stroke: str, width: float, dash: str = "", cls: str = ""
+    plot: Plot,
+    values: Sequence[float],
+    *,
+    stroke: str,
+    width: float,
+    dash: str = "",
+    cls: str = "",
+    shift: float = 0.0,
 ) -> str:
-    """A line through one value per loading case."""
-    points = " ".join(f"{plot.x_of(i):.1f},{plot.y_of(v):.1f}" for i, v in enumerate(values))
+    """A line through one value per loading case (`shift`: a fraction of a slot sideways)."""
+    points = " ".join(f"{plot.x_of(i + shift):.1f},{plot.y_of(v):.1f}" for i, v in enumerate(values))
     dash_attr = f' stroke-dasharray="{dash}"' if dash else ""
     cls_attr = f' class="{cls}"' if cls else ""
     return (
@@ -187,24 +202,56 @@ def polyline(
     )
 
 
+def series(
+    plot: Plot, points: Sequence[ChartPoint], *, shift: float = 0.0, muted: bool = False, name: str = ""
+) -> list[str]:
+    """One line of cases: a polyline and each marker, marked C or NC (muted: hollow, dashed, unmarked)."""
+    parts = []
+    if len(points) > 1:
+        values = [p.lsf for p in points]
+        parts.append(
+            polyline(plot, values, stroke="#505a5f", width=1.5, dash="6 4" if muted else "", shift=shift)
+        )
+    data = f' data-series="{name}"' if name else ""
+    for i, point in enumerate(points):
+        x, y = plot.x_of(i + shift), plot.y_of(point.lsf)
+        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}"{data}>')
+        parts.append(marker(x, y, point.compliant, hollow=muted))
+        if not muted:
+            # C points lie below the line and NC points above it: label each away from the line.
+            label_y = y + 27 if point.compliant else y - 14
+            parts.append(_text(x, label_y, "C" if point.compliant else "NC", size=17, cls="chart__verdict"))
+        parts.append("</g>")
+    return parts
+
+
+def _markup(parts: Sequence[str]) -> Markup:
+    # Every piece of text went through escape(); the rest is markup built here from numbers.
+    return Markup("".join(parts))  # noqa: S704
+
+
 def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> Markup:
     """The whole SVG element, safe to place in a page."""
     plot = plot_for([p.lsf for p in points], len(points))
     parts = chart_frame(plot, chart_id=chart_id, title=TITLE, description=describe(points))
-    if len(points) > 1:
-        parts.append(polyline(plot, [p.lsf for p in points], stroke="#505a5f", width=1.5))
-    for i, point in enumerate(points):
-        x, y = plot.x_of(i), plot.y_of(point.lsf)
-        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
-        parts.append(marker(x, y, point.compliant))
-        # C points lie below the line and NC points above it: label each away from the line.
-        label_y = y + 27 if point.compliant else y - 14
-        parts.append(_text(x, label_y, "C" if point.compliant else "NC", size=17, cls="chart__verdict"))
-        parts.append("</g>")
-        parts.append(case_axis_label(plot, i, point.short_label))
-    parts += chart_close(plot)
-    # Every piece of text above went through escape(); the rest is markup built here from numbers.
-    return Markup("".join(parts))  # noqa: S704
+    parts += series(plot, points)
+    parts += [case_axis_label(plot, i, point.short_label) for i, point in enumerate(points)]
+    return _markup([*parts, *chart_close(plot)])
+
+
+def before_after_chart(
+    before: Sequence[ChartPoint], after: Sequence[ChartPoint], *, remedy: str, chart_id: str = "remedy-chart"
+) -> Markup:
+    """Each case's LSF today (hollow, dashed) and after `remedy` (marked C or NC), on one scale."""
+    plot = plot_for([p.lsf for p in [*before, *after]], len(before))
+    title = f"LSF per loading case today and {remedy}, against the 2/3 limit"
+    after_words = f"{remedy[:1].upper()}{remedy[1:]}: {case_list(after)}"
+    description = f"{INTRODUCTION} Today: {case_list(before)}. {after_words}."
+    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description)
+    parts += series(plot, before, shift=-0.08, muted=True, name="before")
+    parts += series(plot, after, shift=0.08, name="after")
+    parts += [case_axis_label(plot, i, point.short_label) for i, point in enumerate(before)]
+    return _markup([*parts, *chart_close(plot)])
 
 
 MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"

@@ -11,8 +11,9 @@ stateful run follows the links schemathesis infers (a stored inspection to its r
 a certificate to its PDF), where the stateful checks (use_after_free, ensure_resource_availability,
 object_level_authorization) act too. One is narrowed, not disabled: positive_data_acceptance
 also accepts a 422 for a rule that relates several fields, which JSON Schema cannot state, once the
-request is shown to break it (see `refused_by_a_cross_field_rule`), or a 422 for an Idempotency-Key
-that this run sent before with another request; in the stateful run negative_data_rejection is
+request is shown to break it (see `refused_by_a_cross_field_rule`), a remedies query beyond the
+stored inspection's seats or wheelbase (`refused_for_the_inspection_on_file`), or a 422 for an
+Idempotency-Key that this run sent before with another request; in the stateful run negative_data_rejection is
 narrowed the same way for one schemathesis artefact (a linked path value judged while still
 percent-encoded, see `negative_data_rejection_with_linked_values_decoded`). Checks are added: the
 narrowed ones, and one that the station key is honoured, without which a key that never reached
@@ -106,7 +107,10 @@ def _aim_at_records_on_file(case: schemathesis.Case[Any], choice: int) -> None:
         case.body = body
     elif operation == "GET /api/v1/vehicles/{registration_number}":
         case.path_parameters = {"registration_number": registration if choice == 1 else "bdg-252qh"}
-    elif operation == "GET /api/v1/inspections/{inspection_id}":
+    elif operation in (
+        "GET /api/v1/inspections/{inspection_id}",
+        "GET /api/v1/inspections/{inspection_id}/remedies",
+    ):
         case.path_parameters = {"inspection_id": ON_FILE["inspection_id"]}
     elif operation == "POST /api/v1/type-assessments" and isinstance(case.body, dict):
         body = {**case.body, "make": STUDY_VEHICLE["make"], "model": STUDY_VEHICLE["model"]}
@@ -265,6 +269,28 @@ def _type_refusal_explained(body: dict[str, Any], field: str, rule: str) -> bool
         return len(layouts) > 1
 
 
+def refused_for_the_inspection_on_file(case: schemathesis.Case[Any], problem: dict[str, str]) -> bool:
+    """Is a remedies query refused for what the stored inspection has, and does it really exceed it?
+
+    The schema bounds the target occupancy by the most seats any vehicle may have and the ballast
+    position by the longest wheelbase; the inspection's own seats and wheelbase bound them further
+    (range on target_occupants or ballast_x_m, recomputed here from the stored inspection).
+    """
+    if not case.operation.path.endswith("/remedies") or problem.get("rule") != "range":
+        return False
+    with get_sessionmaker()() as db:
+        inspection = db.get(Inspection, int(case.path_parameters["inspection_id"]))
+        if inspection is None:
+            return False
+        seats, wheelbase = len(inspection.occupant_config["seats"]), inspection.wheelbase_m
+    query = case.query or {}
+    if problem.get("field") == "target_occupants":
+        return int(query["target_occupants"]) > seats
+    if problem.get("field") == "ballast_x_m":
+        return _decimal(query["ballast_x_m"]) > Fraction(wheelbase + RULES.seat_reach_m)
+    return False
+
+
 # Every Idempotency-Key this run sent, with the requests it went with: a 422 for reusing a key is
 # right only when the same key went earlier with another request.
 KEYS_SENT: dict[str, set[str]] = {}
@@ -305,11 +331,16 @@ def positive_data_acceptance_with_cross_field_rules(
     try:
         return positive_data_acceptance(ctx, response, case)
     except Failure:
-        if response.status_code != 422 or not isinstance(case.body, dict):
+        if response.status_code != 422:
             raise
         problems = response.json().get("errors", [])
-        body = case.body
-        explained = [refused_by_a_cross_field_rule(body, p) or _reused_key(case, p) for p in problems]
+        body = case.body if isinstance(case.body, dict) else None
+        explained = [
+            (body is not None and refused_by_a_cross_field_rule(body, p))
+            or _reused_key(case, p)
+            or refused_for_the_inspection_on_file(case, p)
+            for p in problems
+        ]
         if not problems or not all(explained):
             raise
         return None

@@ -1,0 +1,134 @@
+"""The inspection page's "What would make it comply": a small GET form, the sentence, a table, the chart."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from decimal import Decimal
+from fractions import Fraction
+from typing import Any
+
+from starlette.datastructures import QueryParams
+
+from app.config import get_settings
+from app.inspections.models import Inspection
+from app.inspections.remedies import stored_assessment
+from app.inspections.wording import remedies_sentence, remedy_applied
+from app.stability import StabilityError, case_label
+from app.stability.remedies import Remedies, advice_of, complies, size_remedies
+from app.web.chart import ChartPoint, before_after_chart, short_label
+from app.web.forms import FormErrors, parse_decimal, query_text, readable
+
+REMEDIES = {"ballast": "Fitting front ballast", "seat_shift": "Moving the rear bench forward"}
+FIELDS = ("target_occupants", "ballast_x_m", "remedy")
+INPUT_IDS = {"target_occupants": "target_occupants", "ballast_x_m": "ballast_x_m", "remedy": "remedy-ballast"}
+
+
+@dataclass(frozen=True)
+class RemedyChoice:
+    """What the officer asked for: a target occupancy (None: every seat), a ballast position, a remedy."""
+
+    target_occupants: int | None
+    ballast_x_m: Decimal
+    remedy: str
+
+
+def read_choice(query: QueryParams, seats: int, errors: FormErrors) -> tuple[RemedyChoice, dict[str, str]]:
+    """The form's values as typed and what they ask for; a bad value is named beside its field."""
+    values = {name: query_text(query.get(name, ""), INPUT_IDS[name], errors, limit=20) for name in FIELDS}
+    target: int | None = None
+    if values["target_occupants"]:
+        typed = values["target_occupants"]
+        if typed.isascii() and typed.isdigit() and int(typed) <= seats:
+            target = int(typed)
+        else:
+            errors.add(
+                "target_occupants", f"Enter the number of occupants as a whole number from 0 to {seats}"
+            )
+    ballast_x_m = get_settings().ballast_x_m
+    if values["ballast_x_m"]:
+        parsed = parse_decimal(values["ballast_x_m"])
+        if parsed is None:
+            errors.add(
+                "ballast_x_m",
+                "Enter the ballast position in metres behind the front wheel centre, like 0.30 "
+                "(negative: ahead of it)",
+            )
+        else:
+            ballast_x_m = parsed
+    remedy = values["remedy"] or "ballast"
+    if remedy not in REMEDIES:
+        errors.add("remedy-ballast", "Choose fitting front ballast or moving the rear bench forward")
+        remedy = "ballast"
+    values["remedy"] = remedy
+    return RemedyChoice(target, ballast_x_m, remedy), values
+
+
+def _sized(inspection: Inspection, choice: RemedyChoice, errors: FormErrors) -> Remedies:
+    """The remedies for the choice; a position the core refuses is named, and the default used instead."""
+    assessment = stored_assessment(inspection)
+    rules = get_settings().rules()
+    try:
+        return size_remedies(
+            assessment, target_occupants=choice.target_occupants, ballast_x_m=choice.ballast_x_m, rules=rules
+        )
+    except StabilityError as error:
+        errors.add(error.field, readable(error.message))
+        return size_remedies(
+            assessment,
+            target_occupants=choice.target_occupants,
+            ballast_x_m=get_settings().ballast_x_m,
+            rules=rules,
+        )
+
+
+def _points(remedies: Remedies, after: list[Fraction | None]) -> list[ChartPoint]:
+    return [
+        ChartPoint(short_label(c.occupants), case_label(c.occupants), float(lsf), complies(lsf))
+        for c, lsf in zip(remedies.cases, after, strict=True)
+        if lsf is not None
+    ]
+
+
+def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[str, Any], FormErrors]:
+    """The section's context (sentence, rows, chart, form values) and the form's errors."""
+    errors = FormErrors()
+    seats = len(inspection.loading_cases) - 1
+    choice, values = read_choice(query, seats, errors)
+    remedies = _sized(inspection, choice, errors)
+    advice = advice_of(remedies)
+    if not values["target_occupants"]:
+        values["target_occupants"] = str(remedies.target_occupants)
+    if not values["ballast_x_m"]:
+        values["ballast_x_m"] = f"{get_settings().ballast_x_m}"
+    chosen = [
+        c.lsf_after_ballast if choice.remedy == "ballast" else c.lsf_after_seat_shift for c in remedies.cases
+    ]
+    applied = remedy_applied(advice, choice.remedy)
+    before = _points(remedies, [c.lsf for c in remedies.cases])
+    chart = None
+    if applied is not None and None not in chosen:
+        chart = before_after_chart(before, _points(remedies, chosen), remedy=applied)
+    rows = [
+        {
+            "label": case_label(c.occupants),
+            "lsf": c.lsf,
+            "compliant": c.compliant,
+            "after_ballast": c.lsf_after_ballast,
+            "ballast_complies": c.lsf_after_ballast is not None and complies(c.lsf_after_ballast),
+            "after_seat_shift": c.lsf_after_seat_shift,
+            "seat_shift_complies": c.lsf_after_seat_shift is not None and complies(c.lsf_after_seat_shift),
+        }
+        for c in remedies.cases
+    ]
+    context = {
+        "sentence": remedies_sentence(advice),
+        "advice": advice,
+        "rows": rows,
+        "chart": chart,
+        "applied": applied,
+        "remedy_name": REMEDIES[choice.remedy],
+        "form": values,
+        "remedies": REMEDIES,
+        "seats": seats,
+    }
+    return context, errors
