@@ -10,10 +10,13 @@ from typing import Any
 from starlette.datastructures import QueryParams
 
 from app.config import get_settings
+from app.inspections.dynamics import inspection_dynamics
+from app.inspections.dynamics_wording import figure_text
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
 from app.inspections.wording import remedies_sentence, remedy_applied
 from app.stability import StabilityError, case_label
+from app.stability.dynamics import rollover_after_remedy
 from app.stability.remedies import Remedies, advice_of, complies, size_remedies
 from app.web.chart import ChartPoint, before_after_chart, short_label
 from app.web.forms import FormErrors, parse_decimal, query_text, readable
@@ -89,6 +92,15 @@ def _points(remedies: Remedies, after: list[Fraction | None]) -> list[ChartPoint
     ]
 
 
+def _rollover(threshold: float | None, lsf: Fraction, after: Fraction | None) -> str:
+    """A rollover threshold as the estimates section writes it; a dash where the remedy does not apply."""
+    if threshold is None or after is None:
+        return "–"
+    return figure_text(
+        rollover_after_remedy(threshold, lsf_before=float(lsf), lsf_after=float(after)), 4, "g"
+    )
+
+
 def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[str, Any], FormErrors]:
     """The section's context (sentence, rows, chart, form values) and the form's errors."""
     errors = FormErrors()
@@ -108,9 +120,19 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
     chart = None
     if applied is not None and None not in chosen:
         chart = before_after_chart(before, _points(remedies, chosen), remedy=applied)
+    _inputs, estimates = inspection_dynamics(inspection)
+    thresholds: dict[int, float | None] = {
+        case.occupants: case.rollover_threshold_g for case in estimates.cases
+    }
+    thresholds = {c.occupants: thresholds.get(c.occupants) for c in remedies.cases}
     rows = [
         {
             "label": case_label(c.occupants),
+            "rollover": _rollover(thresholds.get(c.occupants), c.lsf, c.lsf),
+            "rollover_after_ballast": _rollover(thresholds.get(c.occupants), c.lsf, c.lsf_after_ballast),
+            "rollover_after_seat_shift": _rollover(
+                thresholds.get(c.occupants), c.lsf, c.lsf_after_seat_shift
+            ),
             "lsf": c.lsf,
             "compliant": c.compliant,
             "after_ballast": c.lsf_after_ballast,
@@ -124,6 +146,7 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
         "sentence": remedies_sentence(advice),
         "advice": advice,
         "rows": rows,
+        "rollover_known": any(value is not None for value in thresholds.values()),
         "chart": chart,
         "applied": applied,
         "remedy_name": REMEDIES[choice.remedy],

@@ -246,6 +246,13 @@ def rollover_threshold(*, track_m: float, cg_height_m: float, lsf: float) -> flo
     return track_m / (2 * cg_height_m) * lsf
 
 
+def rollover_after_remedy(threshold_g: float, *, lsf_before: float, lsf_after: float) -> float:
+    """A case's rollover threshold once a remedy has moved its LSF, its CG height kept: exact for
+    seats moved forward (no height changes), and for ballast the figure when the ballast sits at the
+    case's CG height (ballast mounted lower lowers the CG, so the threshold is then higher)."""
+    return threshold_g * lsf_after / lsf_before
+
+
 def tilt_angle_deg(threshold_g: float) -> float:
     """The tilt-table angle at which the case would tip, atan of its threshold, in degrees."""
     return math.degrees(math.atan(threshold_g))

@@ -3,6 +3,7 @@ lift weighing on the inspection form, the estimates beside their inputs and the 
 
 from __future__ import annotations
 
+import math
 import re
 from decimal import Decimal
 
@@ -193,3 +194,35 @@ def test_the_map_widens_its_axes_to_hold_every_point_and_the_minimum_line() -> N
     assert all(0 < across < 1 and 0 < up < 1 for across, up, _ in geometry.points)
     assert 0 < geometry.min_rollover[0] < 1
     assert 0 < geometry.limit_x < 1
+
+
+def test_each_remedy_shows_what_it_does_to_the_rollover_threshold(
+    web: TestClient, study_vehicle: Vehicle
+) -> None:
+    record_figures(web, ILLUSTRATIVE)
+    done = post_form(web, FORM_URL, FORM_URL, {**STUDY_READINGS, **LIFT})
+    page = web.get(done.headers["location"]).text
+    table = text_of(page, "remedies-rollover-table")
+    # Worked out here: the lift's CG height, the full case's height, its rear load and the advised
+    # remedies (54.64 kg at 0.30 m; the rear bench 0.262 m forward), each at its own LSF.
+    tan_phi = math.tan(math.asin(0.40 / 2.0))
+    h0 = 0.19 + 2.0 * (108 - 94.8) / (359 * tan_phi)
+    h3 = (359 * h0 + 72 * (0.75 + 3 * 0.80)) / 647
+    rear3 = 250 + 72 * 0.9303 / 2 + 3 * 72 * 1.6303 / 2
+    today = 1.15 / (2 * h3) * rear3 / 647
+    with_ballast = 1.15 / (2 * h3) * (rear3 + 54.64 * 0.30 / 2) / (647 + 54.64)
+    with_bench = 1.15 / (2 * h3) * (rear3 - 3 * 72 * 0.262 / 2) / 647
+    row = table[table.index("Driver + 3 passengers") :]
+    assert row.split()[4:7] == [f"{today:.4f}", "g", f"{with_ballast:.4f}"]
+    assert f"{with_bench:.4f} g" in row
+    assert f"{today:.4f}" == "0.6227"  # the reference's figure for the full taxi
+    assert with_bench < today  # moving load forward costs rollover margin
+    none_row = table[table.index("None") : table.index("Driver")].split()
+    assert none_row[1] == none_row[5] == "0.7277"  # no passenger: moving the bench changes nothing
+
+
+def test_without_figures_the_remedies_show_no_rollover_table(web: TestClient, study_vehicle: Vehicle) -> None:
+    done = post_form(web, FORM_URL, FORM_URL, STUDY_READINGS)
+    page = web.get(done.headers["location"]).text
+    assert "What would make it comply" in page
+    assert 'id="remedies-rollover-table"' not in page
