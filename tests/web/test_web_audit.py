@@ -276,7 +276,7 @@ def test_a_forged_checkpoint_is_refused_on_the_page(
 # ---- the filters, the pages and the CSV ------------------------------------------------------------
 
 LAGOS = ZoneInfo("Africa/Lagos")  # the display zone of the settings: UTC+1 all year
-ROW_ID = re.compile(r"<tr>\s*<td>(\d+)</td>")
+ROW_ID = re.compile(r"<tr>\s*<td data-label=\"#\">(\d+)</td>")
 
 
 def at_lagos(text: str) -> datetime:
