@@ -69,7 +69,8 @@ def test_every_change_of_the_figures_is_a_new_revision_kept_and_audited(
     page = web.get("/vehicles/BDG252QH").text
     assert "Revision 3; earlier revisions are kept." in page
     assert "1.2" in text_of(page, "vehicle-figures")
-    events = session.scalars(select(AuditEvent).where(AuditEvent.action == "vehicle.dynamics_recorded")).all()
+    recorded = select(AuditEvent).where(AuditEvent.action == "vehicle.dynamics_recorded")
+    events = session.scalars(recorded.order_by(AuditEvent.id)).all()
     assert len(events) == 3  # revision 1 at registration, then the two changes
     assert [e.actor_label for e in events[1:]] == ["officer@example.org"] * 2
 

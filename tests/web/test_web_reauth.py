@@ -143,7 +143,8 @@ def test_a_stale_admin_is_asked_again_before_changing_an_account(
     assert done.status_code == 200, done.text
     assert outcome in done.text
     session.expire_all()
-    after = session.scalars(select(AuditEvent.action).where(AuditEvent.id > before)).all()
+    since = select(AuditEvent.action).where(AuditEvent.id > before)
+    after = session.scalars(since.order_by(AuditEvent.id)).all()
     assert after[0] == "user.reauthenticated"
 
 
