@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-from datetime import timedelta
-
 from certificate_helpers import register, weigh
 from fastapi.testclient import TestClient
-from sqlalchemy import select, update
+from sqlalchemy import select
 from sqlalchemy.orm import Session
-from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, form_values, hidden, sign_in
+from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, form_values, hidden, make_stale, sign_in
 
-from app.accounts.models import UserSession
 from app.accounts.service import create_user
 from app.audit.models import AuditEvent
-from app.db import utcnow
 
 
 def signed_in(client: TestClient, session: Session, role: str) -> str:
@@ -85,12 +81,6 @@ def test_an_officer_cannot_revoke(api: TestClient, session: Session) -> None:
     refused = api.post(f"{location}/revoke", data={"csrf_token": token, "reason": "I would like to"})
     assert refused.status_code == 403
     assert 'id="headline">NOT CERTIFIED: refusal</h1>' in api.get(location).text
-
-
-def make_stale(session: Session) -> None:
-    """Every browser session last proved who it is six minutes ago."""
-    session.execute(update(UserSession).values(verified_at=utcnow() - timedelta(minutes=6)))
-    session.commit()
 
 
 def test_revoking_after_five_minutes_asks_for_the_password_again_then_goes_ahead(

@@ -8,6 +8,7 @@ import socket
 import threading
 import time
 from collections.abc import Iterator
+from datetime import date
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -18,9 +19,13 @@ from fastapi.testclient import TestClient
 from playwright.sync_api import Browser, Page
 from sqlalchemy.orm import Session
 
+from app import config
 from app.accounts.models import User
 from app.accounts.service import create_user
 from app.main import create_app
+from app.stations.details import StationDetails
+from app.stations.models import Station
+from app.stations.service import create_station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
 from web.webtools import (
@@ -125,3 +130,30 @@ def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterat
     context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
     yield context.new_page()
     context.close()
+
+
+@pytest.fixture
+def required(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """TRIKECERT_MFA=required, as in production, for the app and the command line alike."""
+    monkeypatch.setenv("TRIKECERT_MFA", "required")
+    config.get_settings.cache_clear()
+    yield
+    monkeypatch.delenv("TRIKECERT_MFA")
+    config.get_settings.cache_clear()
+
+
+@pytest.fixture
+def station(session: Session) -> Station:
+    """A station with a scale on record."""
+    station, _key = create_station(
+        session,
+        name="Ojota weighbridge",
+        details=StationDetails(
+            location="Ojota, Lagos",
+            calibration_certificate="SON/CAL/2026/0001",
+            calibration_valid_until=date(2099, 1, 31),
+            capacity_kg=Decimal(3000),
+            division_kg=Decimal(1),
+        ),
+    )
+    return station

@@ -4,56 +4,25 @@ ask for the password, and a current code when the account has a second factor, b
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from datetime import date, timedelta
-from decimal import Decimal
-
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import select, update
+from sqlalchemy import select
 from sqlalchemy.orm import Session
 
-from app import config
-from app.accounts.models import User, UserSession
+from app.accounts.models import User
 from app.audit.models import AuditEvent
-from app.db import utcnow
-from app.stations.details import StationDetails
 from app.stations.models import Station
-from app.stations.service import create_station
-from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, PASSWORD, code_at, enrol, form_values, hidden, sign_in
-
-
-@pytest.fixture
-def required(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """TRIKECERT_MFA=required, as in production."""
-    monkeypatch.setenv("TRIKECERT_MFA", "required")
-    config.get_settings.cache_clear()
-    yield
-    monkeypatch.delenv("TRIKECERT_MFA")
-    config.get_settings.cache_clear()
-
-
-@pytest.fixture
-def station(session: Session) -> Station:
-    """A station whose key an administrator may rotate."""
-    station, _key = create_station(
-        session,
-        name="Ojota weighbridge",
-        details=StationDetails(
-            location="Ojota, Lagos",
-            calibration_certificate="SON/CAL/2026/0001",
-            calibration_valid_until=date(2099, 1, 31),
-            capacity_kg=Decimal(3000),
-            division_kg=Decimal(1),
-        ),
-    )
-    return station
-
-
-def make_stale(session: Session, minutes: int = 6) -> None:
-    """Every browser session last proved who it is `minutes` ago."""
-    session.execute(update(UserSession).values(verified_at=utcnow() - timedelta(minutes=minutes)))
-    session.commit()
+from web.webtools import (
+    ADMIN_EMAIL,
+    OFFICER_EMAIL,
+    PASSWORD,
+    code_at,
+    enrol,
+    form_values,
+    hidden,
+    make_stale,
+    sign_in,
+)
 
 
 def key_hash(session: Session, station: Station) -> str:

@@ -4,28 +4,14 @@ codes, and an administrator's reset (recorded in the audit log)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
-import pytest
 from fastapi.testclient import TestClient
 from httpx import Response
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 
-from app import config
 from app.accounts.models import RecoveryCode, User
 from app.audit.models import AuditEvent
 from web.webtools import ADMIN_EMAIL, OFFICER_EMAIL, code_at, enrol, hidden, sign_in
-
-
-@pytest.fixture
-def required(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """TRIKECERT_MFA=required, as in production."""
-    monkeypatch.setenv("TRIKECERT_MFA", "required")
-    config.get_settings.cache_clear()
-    yield
-    monkeypatch.delenv("TRIKECERT_MFA")
-    config.get_settings.cache_clear()
 
 
 def enter_code(client: TestClient, code: str) -> Response:

@@ -12,38 +12,25 @@ import re
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
-from datetime import timedelta
 from pathlib import Path
 
 import pyotp
 import pytest
 from playwright.sync_api import Page, expect
-from sqlalchemy import select, update
+from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from app import config
-from app.accounts.models import User, UserSession
+from app.accounts.models import User
 from app.certificates.actors import Actor
 from app.certificates.service import issue_certificate
-from app.db import utcnow
 from app.demo import load_demo
-from web.webtools import PASSWORD, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations
+from web.webtools import PASSWORD, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations, make_stale
 
 pytestmark = pytest.mark.browser
 
 EMAIL = "chief.inspector@example.org"
 STEP = 30
-
-
-@pytest.fixture
-def required(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """TRIKECERT_MFA=required, as in production, for the served app and the command line alike."""
-    monkeypatch.setenv("TRIKECERT_MFA", "required")
-    config.get_settings.cache_clear()
-    yield
-    monkeypatch.delenv("TRIKECERT_MFA")
-    config.get_settings.cache_clear()
 
 
 class Authenticator:
@@ -165,8 +152,7 @@ def test_a_new_admin_enrols_signs_in_with_codes_and_confirms_a_revocation(
     expect(page.get_by_role("status")).to_contain_text("9 recovery codes are left")
 
     # Revoking after five minutes asks again; the used recovery code is refused there too.
-    session.execute(update(UserSession).values(verified_at=utcnow() - timedelta(minutes=6)))
-    session.commit()
+    make_stale(session)
     page.goto(f"/certificates/{number}")
     page.get_by_label("Reason").fill("Weighbridge ticket forged")
     page.get_by_role("button", name=re.compile("^Revoke")).click()

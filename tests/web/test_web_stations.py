@@ -56,23 +56,6 @@ def stored(session: Session, station_id: int) -> Station:
     return station
 
 
-@pytest.fixture
-def station(session: Session) -> Station:
-    """A station with a scale on record."""
-    station, _key = create_station(
-        session,
-        name="Ojota weighbridge",
-        details=StationDetails(
-            location="Ojota, Lagos",
-            calibration_certificate="SON/CAL/2026/0001",
-            calibration_valid_until=date(2099, 1, 31),
-            capacity_kg=Decimal(3000),
-            division_kg=Decimal(1),
-        ),
-    )
-    return station
-
-
 def test_an_admin_adds_a_station_and_its_key_works_on_the_api(
     admin_web: TestClient, session: Session
 ) -> None:

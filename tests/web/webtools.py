@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import re
 import time
+from datetime import timedelta
 from decimal import Decimal
 from html.parser import HTMLParser
 from pathlib import Path
@@ -14,9 +15,12 @@ import pyotp
 from fastapi.testclient import TestClient
 from httpx import Response
 from playwright.sync_api import Page
+from sqlalchemy import update
 from sqlalchemy.orm import Session
 from study_data import STUDY_TYPE_READINGS
 
+from app.accounts.models import UserSession
+from app.db import utcnow
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import Rules, WheelReadings
 from app.stability.model import WHEELS
@@ -152,3 +156,9 @@ def weigh_study_fleet(session: Session, *, model: str = "RE", suffix: str = "") 
         request = InspectionRequest(registration_number=registration, readings=wheels)
         found[registration] = record_inspection(session, request=request, rules=Rules()).id
     return found
+
+
+def make_stale(session: Session, minutes: int = 6) -> None:
+    """Every browser session last proved who it is `minutes` ago (past the five that need no asking)."""
+    session.execute(update(UserSession).values(verified_at=utcnow() - timedelta(minutes=minutes)))
+    session.commit()
