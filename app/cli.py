@@ -162,8 +162,8 @@ def cmd_prune_idempotency_keys(args: argparse.Namespace) -> int:
     from app.idempotency.service import prune
 
     hours = max(24, args.older_than_hours or get_settings().idempotency_key_hours)
-    with get_sessionmaker()() as session:
-        count = prune(session, older_than=utcnow() - timedelta(hours=hours))
+    with get_engine().connect() as connection:
+        count = prune(connection, older_than=utcnow() - timedelta(hours=hours))
     print(f"deleted {count} idempotency key(s) older than {hours} hours")
     return 0
 

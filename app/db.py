@@ -11,7 +11,7 @@ from datetime import UTC, datetime
 from functools import lru_cache
 from typing import Any
 
-from sqlalchemy import DateTime, Engine, MetaData, create_engine, event, exc, make_url
+from sqlalchemy import Connection, DateTime, Engine, MetaData, create_engine, event, exc, make_url
 from sqlalchemy.orm import DeclarativeBase, Session, sessionmaker
 from sqlalchemy.types import TypeDecorator
 from starlette.concurrency import run_in_threadpool
@@ -83,6 +83,41 @@ def begin_write(session: Session) -> None:
             return  # it has written (or holds the writer's turn): stay in it
         session.commit()
     session.connection(execution_options={WRITE_OPTION: True})
+
+
+def autocommit(connection: Connection) -> Connection:
+    """PostgreSQL: run each statement as a transaction of its own (a submission's look-up and its
+    one-statement write); SQLite keeps the driver's handling (reads outside a transaction)."""
+    if connection.dialect.name == "postgresql":
+        connection.execution_options(isolation_level="AUTOCOMMIT")
+    return connection
+
+
+def begin_connection_transaction(connection: Connection) -> None:
+    """PostgreSQL: leave autocommit and begin, so what follows (an advisory lock, the writes) is one
+    transaction until the commit. SQLite: nothing (its write transaction begins at the first write,
+    `begin_connection_write`)."""
+    if connection.dialect.name != "postgresql":
+        return
+    if connection.in_transaction():
+        connection.commit()  # autocommit's empty transaction
+    connection.execution_options(isolation_level=connection.default_isolation_level)
+    connection.begin()
+
+
+def begin_connection_write(connection: Connection) -> None:
+    """SQLite: start the write transaction (`BEGIN IMMEDIATE` behind the writer lock) unless this
+    connection is in one already; reads done so far are committed first, keeping them out of the
+    writer's turn. PostgreSQL: nothing (in autocommit each statement is a transaction of its own)."""
+    if connection.dialect.name != "sqlite":
+        return
+    if connection.in_transaction():
+        if connection.connection.dbapi_connection.in_transaction:  # type: ignore[union-attr]
+            return  # it has written, or holds the writer's turn: stay in it
+        connection.commit()
+    connection.execution_options(**{WRITE_OPTION: True})
+    connection.begin()
+    connection.execution_options(**{WRITE_OPTION: False})  # this transaction only; later reads stay apart
 
 
 class _WriterLock:

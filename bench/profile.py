@@ -64,6 +64,7 @@ def main() -> None:
     parser.add_argument("--backend", default="postgresql", choices=["postgresql", "sqlite"])
     parser.add_argument("--seconds", type=int, default=12)
     parser.add_argument("--top", type=int, default=15)
+    parser.add_argument("--raw", type=Path, help="also keep py-spy's raw profile here (for flame graphs)")
     args = parser.parse_args()
     scratch = Path(tempfile.mkdtemp(prefix="trikecert-profile-"))
     env = dict(
@@ -105,6 +106,8 @@ def main() -> None:
         rate = re.search(r"Requests/sec:\s+([\d.]+)", load.stdout)
         print(f"{args.backend}, 1 worker, wrk -c8: {rate.group(1) if rate else '?'} POST/s while sampled")
         print(summarise(raw, args.top))
+        if args.raw:
+            shutil.copy(raw, args.raw)
     finally:
         server.terminate()
         server.wait(timeout=30)

@@ -12,20 +12,21 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from datetime import timedelta
-from typing import Annotated, Any
+from typing import Annotated, Any, Protocol
 
 from fastapi import Header
 from fastapi.responses import Response
+from sqlalchemy import Connection
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
 
 from app.api.errors import ErrorOut
 from app.config import get_settings
+from app.db import begin_connection_transaction
 from app.errors import ServiceError
-from app.idempotency.models import IdempotencyKey
 from app.idempotency.service import (
     Claim,
     KeyInFlight,
+    StoredAnswer,
     check_same_request,
     maybe_prune,
     remember,
@@ -52,8 +53,36 @@ IdempotencyKeyHeader = Annotated[
     ),
 ]
 
-# Given the session, the body of the answer to remember with the key (in the same transaction).
-Remember = Callable[[Session, bytes], None]
+# Stores the body of the answer with the key, in the transaction that stores what it describes.
+Remember = Callable[[bytes], None]
+
+
+class Transaction(Protocol):
+    """Where the key is claimed and stored: a Session, or a Core connection (`OwnTransaction`)."""
+
+    def connection(self) -> Connection:
+        """The connection whose transaction holds the claim."""
+        ...
+
+    def rollback(self) -> None:
+        """End the transaction (releasing the claim) if it is still open."""
+        ...
+
+
+class OwnTransaction:
+    """A Core connection as a Transaction: it leaves autocommit, so a claim lasts until the commit."""
+
+    def __init__(self, connection: Connection) -> None:
+        begin_connection_transaction(connection)
+        self._connection = connection
+
+    def connection(self) -> Connection:
+        """The connection itself."""
+        return self._connection
+
+    def rollback(self) -> None:
+        """Roll back whatever is still open."""
+        self._connection.rollback()
 
 
 def idempotent_responses(status_code: int) -> dict[int | str, dict[str, Any]]:
@@ -86,57 +115,62 @@ def _key(header: str) -> str:
     return header[1:-1] if len(header) > 1 and header.startswith('"') and header.endswith('"') else header
 
 
+def created(body: bytes) -> Response:
+    """A 201 answer with this JSON body."""
+    return _json(201, body)
+
+
 def _json(status_code: int, body: bytes, *, replayed: bool = False) -> Response:
     headers = {REPLAYED_HEADER: "true"} if replayed else None
     return Response(content=body, status_code=status_code, media_type="application/json", headers=headers)
 
 
-def _replay(claim: Claim, stored: IdempotencyKey) -> Response:
+def _replay(claim: Claim, stored: StoredAnswer) -> Response:
     check_same_request(claim, stored)
     return _json(stored.status_code, stored.response_body.encode(), replayed=True)
 
 
+def claim_of(header: str, *, station_id: int, operation: str, payload: Any) -> Claim:
+    """The station's use of the key in the header for this operation and validated body."""
+    return Claim(station_id, _key(header), operation, request_hash(operation, payload))
+
+
 def respond_once(
-    session: Session,
+    transaction: Transaction,
     *,
-    station_id: int,
-    header: str | None,
-    operation: str,
-    payload: Any,
+    claim: Claim | None,
     status_code: int,
     perform: Callable[[Remember], bytes],
 ) -> Response:
     """Run `perform` once per station and key, and answer with the JSON body it returns.
 
-    `perform(remember)` must call `remember(session, body)` before its commit with the body it
-    returns, so the key and its answer are stored with the record they describe. Without a key it
-    simply runs.
+    `perform(remember)` must call `remember(body)` before its commit with the body it returns, so
+    the key and its answer are stored with the record they describe. Without a claim it simply runs.
     """
-    if header is None:
-        return _json(status_code, perform(lambda _session, _body: None))
+    if claim is None:
+        return _json(status_code, perform(lambda _body: None))
     retention = timedelta(hours=get_settings().idempotency_key_hours)
-    claim = Claim(station_id, _key(header), operation, request_hash(operation, payload))
     try:
-        if not try_lock(session, claim):
+        if not try_lock(transaction.connection(), claim):
             raise KeyInFlight()
-        stored = stored_answer(session, claim, retention=retention)
+        stored = stored_answer(transaction.connection(), claim, retention=retention)
         if stored is not None:
             return _replay(claim, stored)
 
-        def keep(db: Session, body: bytes) -> None:
-            remember(db, claim, status_code=status_code, body=body)
+        def keep(body: bytes) -> None:
+            remember(transaction.connection(), claim, status_code=status_code, body=body)
 
         try:
             body = perform(keep)
         except (ServiceError, IntegrityError):
             # A concurrent request with the same key may have committed first (SQLite waits for the
             # writer, then finds the key taken): answer with its stored response.
-            session.rollback()
-            stored = stored_answer(session, claim, retention=retention)
+            transaction.rollback()
+            stored = stored_answer(transaction.connection(), claim, retention=retention)
             if stored is None:
                 raise
             return _replay(claim, stored)
     finally:
-        session.rollback()  # ends the transaction, releasing the advisory lock; a commit already happened
-    maybe_prune(session, retention=retention)
+        transaction.rollback()  # ends the transaction, releasing the advisory lock; a commit already happened
+    maybe_prune(retention=retention)
     return _json(status_code, body)

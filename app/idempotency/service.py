@@ -14,12 +14,11 @@ import logging
 import secrets
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any
+from typing import Any, cast
 
-from sqlalchemy import delete, func, select
-from sqlalchemy.orm import Session
+from sqlalchemy import Connection, Table, bindparam, delete, func, insert, select
 
-from app.db import begin_write, utcnow
+from app.db import begin_connection_write, get_engine, utcnow
 from app.errors import Conflict, InvalidInput
 from app.idempotency.models import IdempotencyKey
 
@@ -60,7 +59,7 @@ class KeyInFlight(Conflict):
 class KeyReused(InvalidInput):
     """The key was already used for a different request (422); a new request needs a new key."""
 
-    def __init__(self, stored: IdempotencyKey) -> None:
+    def __init__(self, stored: StoredAnswer) -> None:
         super().__init__(
             f"{KEY_FIELD}: this key was already used by this station for a different request "
             f"({stored.operation} at {stored.created_at:%Y-%m-%dT%H:%M:%SZ}); "
@@ -75,57 +74,81 @@ def _lock_id(claim: Claim) -> int:
     return int.from_bytes(digest[:8], "big", signed=True)
 
 
-def try_lock(session: Session, claim: Claim) -> bool:
+def try_lock(connection: Connection, claim: Claim) -> bool:
     """Hold (station, key) for this transaction: False when another transaction holds it (PostgreSQL only)."""
-    if session.get_bind().dialect.name != "postgresql":
+    if connection.dialect.name != "postgresql":
         return True
-    return bool(session.scalar(select(func.pg_try_advisory_xact_lock(_lock_id(claim)))))
+    return bool(connection.execute(select(func.pg_try_advisory_xact_lock(_lock_id(claim)))).scalar())
 
 
-def stored_answer(session: Session, claim: Claim, *, retention: timedelta) -> IdempotencyKey | None:
+@dataclass(frozen=True)
+class StoredAnswer:
+    """A key as stored: the request it came with and the answer it got."""
+
+    operation: str
+    request_hash: str
+    status_code: int
+    response_body: str
+    created_at: datetime
+
+
+_KEYS = cast(Table, IdempotencyKey.__table__)
+_THIS_KEY = (_KEYS.c.station_id == bindparam("station_id")) & (_KEYS.c.key == bindparam("key"))
+_STORED = select(
+    _KEYS.c.operation, _KEYS.c.request_hash, _KEYS.c.status_code, _KEYS.c.response_body, _KEYS.c.created_at
+).where(_THIS_KEY)
+
+
+def stored_answer(connection: Connection, claim: Claim, *, retention: timedelta) -> StoredAnswer | None:
     """The answer stored under this station's key, or None; a key older than `retention` is forgotten."""
-    stored = session.get(IdempotencyKey, (claim.station_id, claim.key), populate_existing=True)
-    if stored is not None and stored.created_at < utcnow() - retention:
-        session.delete(stored)
-        session.flush()
+    where = {"station_id": claim.station_id, "key": claim.key}
+    row = connection.execute(_STORED, where).one_or_none()
+    if row is None:
+        return None
+    stored = StoredAnswer(*row)
+    if stored.created_at < utcnow() - retention:
+        connection.execute(delete(_KEYS).where(_THIS_KEY), where)
         return None
     return stored
 
 
-def check_same_request(claim: Claim, stored: IdempotencyKey) -> None:
+def check_same_request(claim: Claim, stored: StoredAnswer) -> None:
     """KeyReused unless the stored key came with the same operation and body."""
     if stored.operation != claim.operation or stored.request_hash != claim.request_hash:
         raise KeyReused(stored)
 
 
-def remember(session: Session, claim: Claim, *, status_code: int, body: bytes) -> None:
-    """Add the key and its answer to the session's transaction (the caller's commit stores both)."""
-    session.add(
-        IdempotencyKey(
-            station_id=claim.station_id,
-            key=claim.key,
-            operation=claim.operation,
-            request_hash=claim.request_hash,
-            status_code=status_code,
-            response_body=body.decode(),
-        )
+def remember(connection: Connection, claim: Claim, *, status_code: int, body: bytes) -> None:
+    """Store the key and its answer in the connection's transaction (the caller's commit stores both)."""
+    connection.execute(
+        insert(_KEYS),
+        {
+            "station_id": claim.station_id,
+            "key": claim.key,
+            "operation": claim.operation,
+            "request_hash": claim.request_hash,
+            "status_code": status_code,
+            "response_body": body.decode(),
+            "created_at": utcnow(),
+        },
     )
 
 
-def prune(session: Session, *, older_than: datetime) -> int:
+def prune(connection: Connection, *, older_than: datetime) -> int:
     """Delete the keys stored before `older_than` and commit; how many went."""
-    begin_write(session)
-    result = session.execute(delete(IdempotencyKey).where(IdempotencyKey.created_at < older_than))
-    session.commit()
+    begin_connection_write(connection)
+    result = connection.execute(delete(_KEYS).where(_KEYS.c.created_at < older_than))
+    connection.commit()
     return int(getattr(result, "rowcount", 0) or 0)
 
 
-def maybe_prune(session: Session, *, retention: timedelta) -> None:
-    """Now and then (one call in PRUNE_ONE_IN), prune expired keys; a failure is logged, never raised."""
+def maybe_prune(*, retention: timedelta) -> None:
+    """Now and then (one call in PRUNE_ONE_IN), prune expired keys on a connection of its own; a
+    failure is logged, never raised."""
     if secrets.randbelow(PRUNE_ONE_IN):
         return
     try:
-        prune(session, older_than=utcnow() - retention)
+        with get_engine().connect() as connection:
+            prune(connection, older_than=utcnow() - retention)
     except Exception:  # pruning is housekeeping: the answer was already stored
-        session.rollback()
         logger.exception("pruning expired idempotency keys failed")

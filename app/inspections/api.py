@@ -3,81 +3,45 @@
 from __future__ import annotations
 
 from decimal import Decimal
-from typing import Annotated
+from typing import Annotated, Any
 
-from fastapi import APIRouter, Query, status
+from fastapi import APIRouter, Body, Query, status
 from fastapi.responses import Response
-from pydantic import WithJsonSchema
-from sqlalchemy.orm import Session
+from pydantic import PlainValidator, WithJsonSchema
 
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
+from app.api.openapi import REQUIRED_BODY, as_sent
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
-from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
+from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
 from app.ids import InspectionId
-from app.inspections.dynamics import CgLift
-from app.inspections.dynamics_api import case_dynamics_out
+from app.inspections.answer import inspection_answer
+from app.inspections.dynamics import inspection_dynamics
 from app.inspections.models import Inspection
+from app.inspections.record import record_of
 from app.inspections.remedies import inspection_remedies
 from app.inspections.remedy_schemas import RemediesOut, remedies_out
 from app.inspections.schemas import (
-    AveragedReadingsOut,
-    CalibrationOut,
     InspectionIn,
     InspectionOut,
     InspectionPage,
     InspectionSummary,
-    LoadingCaseOut,
-    ReadingsIn,
-    SettingsOut,
 )
 from app.inspections.service import (
     InspectionFilter,
-    InspectionRequest,
     get_inspection,
     list_inspections,
-    record_inspection,
 )
+from app.inspections.submission import submit_inspection
 from app.numbers import LIMITS, POSITION_SCHEMA
-from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings, case_label
-from app.stations.deps import SessionDep, StationDep
+from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
 
+# The body as parsed JSON: validated as InspectionIn in the handler, after the key is checked and counted.
+SubmissionBody = Annotated[Any, PlainValidator(as_sent, json_schema_input_type=InspectionIn), Body()]
 router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
-
-
-def wheel_readings(body: ReadingsIn) -> WheelReadings:
-    """The core's readings from the API's."""
-    return WheelReadings(
-        front_kg=tuple(body.front_kg),
-        left_rear_kg=tuple(body.left_rear_kg),
-        right_rear_kg=tuple(body.right_rear_kg),
-        overall_kg=tuple(body.overall_kg or ()),
-    )
-
-
-def inspection_request(body: InspectionIn) -> InspectionRequest:
-    """The service's request from the API body."""
-    occupants = body.occupants
-    return InspectionRequest(
-        registration_number=body.registration_number,
-        readings=wheel_readings(body.readings),
-        wheelbase_m=body.wheelbase_m,
-        occupant_mass_kg=occupants.mass_kg if occupants else None,
-        seats=tuple(Seat(s.role, s.x_m) for s in occupants.seats) if occupants and occupants.seats else None,
-        load_items=tuple(LoadItem(i.mass_kg, i.x_m, i.label) for i in body.load_items),
-        measured_cases=tuple(
-            MeasuredCase(m.occupants, wheel_readings(m.readings)) for m in body.measured_cases
-        ),
-        cg_lift=CgLift(body.cg_lift.lift_height_m, tuple(body.cg_lift.front_kg)) if body.cg_lift else None,
-        cg_height_m=body.cg_height_m,
-    )
-
-
-def _f(value: Decimal, places: int) -> float:
-    return float(round(value, places))
 
 
 def inspection_summary(inspection: Inspection) -> InspectionSummary:
@@ -92,76 +56,6 @@ def inspection_summary(inspection: Inspection) -> InspectionSummary:
     )
 
 
-def _spread(inspection: Inspection) -> dict[str, float]:
-    """How far each wheel's repeated readings of the base weighing spread (max - min, kg)."""
-    values: dict[str, list[Decimal]] = {}
-    for reading in inspection.readings:
-        if reading.case_occupants == 0:
-            values.setdefault(reading.wheel, []).append(reading.value_kg)
-    return {wheel: _f(max(kg) - min(kg), 3) for wheel, kg in values.items()}
-
-
-def _calibration(inspection: Inspection) -> CalibrationOut | None:
-    if inspection.calibration_certificate is None and inspection.calibration_valid_until is None:
-        return None
-    return CalibrationOut(
-        certificate=inspection.calibration_certificate, valid_until=inspection.calibration_valid_until
-    )
-
-
-def inspection_out(inspection: Inspection) -> InspectionOut:
-    """The full API view of a stored inspection, figures rounded for display, verdicts as stored."""
-    raw: dict[str, list[float]] = {}
-    for reading in inspection.readings:
-        if reading.case_occupants == 0:
-            raw.setdefault(reading.wheel, []).append(float(reading.value_kg))
-    empty = inspection.loading_cases[0]
-    config = inspection.occupant_config
-    estimates, missing = case_dynamics_out(inspection)
-    return InspectionOut(
-        **inspection_summary(inspection).model_dump(),
-        vehicle_id=inspection.vehicle_id,
-        wheelbase_m=float(inspection.wheelbase_m),
-        readings=AveragedReadingsOut(
-            front_kg=_f(inspection.front_kg, 3),
-            left_rear_kg=_f(inspection.left_rear_kg, 3),
-            right_rear_kg=_f(inspection.right_rear_kg, 3),
-            overall_kg=_f(inspection.overall_kg, 3) if inspection.overall_kg is not None else None,
-            rear_kg=_f(inspection.left_rear_kg + inspection.right_rear_kg, 3),
-            total_kg=_f(empty.total_kg, 3),
-        ),
-        raw_readings=raw,
-        spread_kg=_spread(inspection),
-        calibration=_calibration(inspection),
-        seats=[{"role": s["role"], "x_m": float(s["x_m"])} for s in config["seats"]],
-        load_items=[
-            {"label": i["label"], "mass_kg": float(i["mass_kg"]), "x_m": float(i["x_m"])}
-            for i in config["load_items"]
-        ],
-        settings=SettingsOut(
-            occupant_mass_kg=float(inspection.occupant_mass_kg),
-            sum_tolerance=float(inspection.sum_tolerance),
-            rules_version=inspection.rules_version,
-        ),
-        cg_from_front_m=_f(inspection.cg_from_front_m, 4),
-        loading_cases=[
-            LoadingCaseOut(
-                occupants=case.occupants,
-                label=case_label(case.occupants),
-                total_kg=_f(case.total_kg, 2),
-                rear_kg=_f(case.rear_kg, 2),
-                lsf=_f(case.lsf, 4),
-                variance=_f(case.variance, 4),
-                compliant=case.compliant,
-                measured=case.measured,
-                dynamics=figures,
-            )
-            for case, figures in zip(inspection.loading_cases, estimates, strict=True)
-        ],
-        dynamics_missing=missing,
-    )
-
-
 @router.post(
     "",
     status_code=status.HTTP_201_CREATED,
@@ -172,11 +66,12 @@ def inspection_out(inspection: Inspection) -> InspectionOut:
         **RATE_LIMITED_RESPONSE,
     },
     summary="Submit weighbridge readings; answers with Table 4 and the verdict",
+    # The key is read from the header and checked in the handler: the station's bearer scheme.
+    openapi_extra={"security": [{BEARER_SCHEME: []}], **REQUIRED_BODY},
 )
 def create_inspection(
-    body: InspectionIn,
-    session: SessionDep,
-    station: StationDep,
+    document: SubmissionBody = None,
+    authorization: AuthorizationHeader = None,
     idempotency_key: IdempotencyKeyHeader = None,
 ) -> Response:
     """Assess and store one weighing; without `occupants` the vehicle's seats and the standard mass apply.
@@ -185,29 +80,7 @@ def create_inspection(
     the station scale's calibration has lapsed; 422 for a reading above the scale's capacity or
     repeated readings that spread more than allowed (the scale had not settled).
     """
-    request = inspection_request(body)
-
-    def perform(remember: Remember) -> bytes:
-        answered: list[bytes] = []
-
-        def on_stored(db: Session, inspection: Inspection) -> None:
-            answered.append(inspection_out(inspection).model_dump_json().encode())
-            remember(db, answered[0])
-
-        record_inspection(
-            session, request=request, rules=get_settings().rules(), station=station, on_stored=on_stored
-        )
-        return answered[0]
-
-    return respond_once(
-        session,
-        station_id=station.id,
-        header=idempotency_key,
-        operation="POST /api/v1/inspections",
-        payload=body.model_dump(mode="json"),
-        status_code=status.HTTP_201_CREATED,
-        perform=perform,
-    )
+    return submit_inspection(document, station_key=bearer_key(authorization), idempotency_key=idempotency_key)
 
 
 @router.get(
@@ -222,7 +95,9 @@ def read_inspection(
     station: StationDep,
 ) -> InspectionOut:
     """The inspection as decided when it was stored; a station reads only its own (others: 404)."""
-    return inspection_out(get_inspection(session, inspection_id, station_id=station.id))
+    inspection = get_inspection(session, inspection_id, station_id=station.id)
+    _inputs, estimates = inspection_dynamics(inspection)
+    return inspection_answer(record_of(inspection), estimates)
 
 
 @router.get(

@@ -6,28 +6,25 @@ Estimates are floats from assumed inputs; they never change the verdict the stat
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from decimal import ROUND_HALF_EVEN, Decimal
+from dataclasses import dataclass, replace
+from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
-from sqlalchemy.orm import Session
-
 from app.errors import InvalidInput
-from app.stability import Assessment, Seat, StabilityError
+from app.inspections.models import Inspection
+from app.inspections.record import InspectionRecord, record_of
+from app.stability import Seat, StabilityError
 from app.stability.dynamics import (
     BOUNDS,
     AxleLift,
     CaseLoad,
     Dynamics,
     DynamicsInput,
-    VehicleDynamics,
     assess_dynamics,
 )
 from app.stability.validation import check_number
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
-from app.vehicles.dynamics_service import core_figures, current_revision, revision_figures
-from app.vehicles.models import Vehicle
+from app.vehicles.dynamics_service import DynamicsFigures, core_figures, revision_figures
 
 
 @dataclass(frozen=True)
@@ -43,63 +40,40 @@ class CgLift:
         return sum((Fraction(v) for v in self.front_kg), Fraction(0)) / len(self.front_kg)
 
 
-@dataclass(frozen=True)
-class StoredFigures:
-    """What an inspection keeps for its estimates: the columns to store and the revision in force."""
-
-    columns: dict[str, Any]
-    revision: VehicleDynamicsRevision | None
-
-
-def _four(value: Fraction) -> Decimal:
-    return (Decimal(value.numerator) / Decimal(value.denominator)).quantize(
-        Decimal("0.0001"), ROUND_HALF_EVEN
-    )
-
-
-def figures_for_inspection(
-    session: Session,
+def estimate_inputs(
     *,
-    vehicle: Vehicle,
-    result: Assessment,
     cg_lift: CgLift | None,
     cg_height_m: Decimal | None,
     seats: Sequence[Seat] | None,
-    has_load_items: bool,
-) -> StoredFigures:
-    """Check the CG-height weighing against the vehicle's figures in force (422 naming the field).
+    vehicle_seats: Sequence[Seat],
+    figures: DynamicsFigures,
+) -> dict[str, Any]:
+    """What an inspection keeps for its estimates: the CG-height weighing as sent and the seat heights used.
 
+    The weighing is refused (422 naming the field) when out of range or given more finely than kept.
     An inspection with a seat layout of its own has no seat heights: the vehicle's are for its seats.
     """
     _check_precision(cg_lift, cg_height_m)
-    revision = current_revision(session, vehicle.id)
     own_seats = seats is not None and [(s.role, s.x_m) for s in seats] != [
-        (s.role, s.x_m) for s in vehicle.seats
+        (s.role, s.x_m) for s in vehicle_seats
     ]
-    heights = [] if own_seats else list(revision.seat_heights_m if revision else [])
-    stored = {
+    return {
         "cg_lift": None
         if cg_lift is None
         else {"lift_height_m": str(cg_lift.lift_height_m), "front_kg": [str(v) for v in cg_lift.front_kg]},
         "cg_height_m": None if cg_height_m is None else str(cg_height_m),
-        "seat_heights_m": heights,
+        "seat_heights_m": []
+        if own_seats
+        else [None if z is None else str(z) for z in figures.seat_heights_m],
     }
-    readings = result.readings
-    data = dynamics_input(
-        wheelbase_m=result.wheelbase_m,
-        front_kg=_four(readings.front_kg),
-        weighed_kg=_four(readings.total_kg),
-        cases=[(c.occupants, _four(c.total_kg), _four(c.rear_kg), c.compliant) for c in result.cases],
-        revision=revision,
-        stored=stored,
-        has_load_items=has_load_items,
-    )
+
+
+def checked_dynamics(record: InspectionRecord, figures: DynamicsFigures) -> Dynamics:
+    """A new inspection's estimates, its CG-height weighing checked against the vehicle (422, named)."""
     try:
-        assess_dynamics(data)
+        return assess_dynamics(record_input(record, figures))
     except StabilityError as error:
         raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
-    columns = {"dynamics_revision_id": revision.id if revision else None, "dynamics_input": stored}
-    return StoredFigures(columns, revision)
 
 
 def _check_precision(cg_lift: CgLift | None, cg_height_m: Decimal | None) -> None:
@@ -136,13 +110,13 @@ def dynamics_input(
     front_kg: Decimal,
     weighed_kg: Decimal,
     cases: Sequence[tuple[int, Decimal, Decimal, bool]],
-    revision: VehicleDynamicsRevision | None,
+    figures: DynamicsFigures,
     stored: dict[str, Any] | None,
     has_load_items: bool,
 ) -> DynamicsInput:
     """The pure core's input from an inspection's stored figures (the same at submission and later)."""
     stored = stored or {}
-    figures = core_figures(revision_figures(revision))
+    vehicle = core_figures(figures)
     heights = tuple(None if z is None else float(z) for z in stored.get("seat_heights_m", []))
     lift = stored.get("cg_lift")
     given = stored.get("cg_height_m")
@@ -150,15 +124,7 @@ def dynamics_input(
         wheelbase_m=float(wheelbase_m),
         front_level_kg=float(front_kg),
         cases=tuple(CaseLoad(k, float(total), float(rear), ok) for k, total, rear, ok in cases),
-        vehicle=VehicleDynamics(
-            track_m=figures.track_m,
-            wheel_radius_m=figures.wheel_radius_m,
-            seat_heights_m=heights,
-            front_cornering_stiffness_n_per_rad=figures.front_cornering_stiffness_n_per_rad,
-            rear_cornering_stiffness_n_per_rad=figures.rear_cornering_stiffness_n_per_rad,
-            drag_area_m2=figures.drag_area_m2,
-            centre_of_pressure_height_m=figures.centre_of_pressure_height_m,
-        ),
+        vehicle=replace(vehicle, seat_heights_m=heights),
         cg_lift=None
         if lift is None
         else AxleLift(float(lift["lift_height_m"]), float(_mean(lift["front_kg"]))),
@@ -172,26 +138,31 @@ def _mean(values: Sequence[str]) -> Fraction:
     return sum((Fraction(Decimal(v)) for v in values), Fraction(0)) / len(values)
 
 
-def stored_input(inspection: Any) -> DynamicsInput:
-    """The core's input for a stored inspection (an `Inspection` row)."""
-    front = inspection.front_kg
+def record_input(record: InspectionRecord, figures: DynamicsFigures) -> DynamicsInput:
+    """The core's input for an inspection's stored values and the vehicle's figures it names."""
+    front = record.front_kg
     weighed = (
-        inspection.overall_kg
-        if inspection.overall_kg is not None
-        else front + inspection.left_rear_kg + inspection.right_rear_kg
+        record.overall_kg
+        if record.overall_kg is not None
+        else front + record.left_rear_kg + record.right_rear_kg
     )
     return dynamics_input(
-        wheelbase_m=inspection.wheelbase_m,
+        wheelbase_m=record.wheelbase_m,
         front_kg=front,
         weighed_kg=weighed,
-        cases=[(c.occupants, c.total_kg, c.rear_kg, c.compliant) for c in inspection.loading_cases],
-        revision=inspection.dynamics_revision,
-        stored=inspection.dynamics_input,
-        has_load_items=bool(inspection.occupant_config.get("load_items")),
+        cases=[(c.occupants, c.total_kg, c.rear_kg, c.compliant) for c in record.cases],
+        figures=figures,
+        stored=record.dynamics_input,
+        has_load_items=bool(record.occupant_config.get("load_items")),
     )
 
 
-def inspection_dynamics(inspection: Any) -> tuple[DynamicsInput, Dynamics]:
+def stored_input(inspection: Inspection) -> DynamicsInput:
+    """The core's input for a stored inspection."""
+    return record_input(record_of(inspection), revision_figures(inspection.dynamics_revision))
+
+
+def inspection_dynamics(inspection: Inspection) -> tuple[DynamicsInput, Dynamics]:
     """A stored inspection's estimates (inputs checked when it was stored)."""
     data = stored_input(inspection)
     return data, assess_dynamics(data)

@@ -11,37 +11,16 @@ from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.errors import InvalidInput
 from app.ids import InspectionId
+from app.inspections.answer import case_figures, rounded
 from app.inspections.dynamics import inspection_dynamics, lift_inputs
-from app.inspections.dynamics_schemas import CaseAtSpeedOut, CaseDynamicsOut, DynamicsInputsOut, DynamicsOut
-from app.inspections.models import Inspection
+from app.inspections.dynamics_schemas import CaseAtSpeedOut, DynamicsInputsOut, DynamicsOut
 from app.inspections.service import get_inspection
 from app.stability import StabilityError, case_label
-from app.stability.dynamics import CaseDynamics, G, at_speed
+from app.stability.dynamics import G, at_speed
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 
 router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
-
-
-def _r(value: float | None, places: int) -> float | None:
-    return None if value is None else round(value, places)
-
-
-def case_figures(figures: CaseDynamics) -> dict[str, float | None]:
-    """One case's estimates rounded as shown: heights 0.1 mm, thresholds 0.0001 g, speeds 0.1 km/h."""
-    return {
-        "cg_height_m": _r(figures.cg_height_m, 4),
-        "rollover_threshold_g": _r(figures.rollover_threshold_g, 4),
-        "tilt_angle_deg": _r(figures.tilt_angle_deg, 2),
-        "understeer_margin_nm_per_rad": _r(figures.understeer_margin_nm_per_rad, 1),
-        "critical_speed_kmh": _r(figures.critical_speed_kmh, 1),
-    }
-
-
-def case_dynamics_out(inspection: Inspection) -> tuple[list[CaseDynamicsOut], list[str]]:
-    """Each loading case's estimates and the names of the inputs missing for them."""
-    _, dynamics = inspection_dynamics(inspection)
-    return [CaseDynamicsOut(**case_figures(c)) for c in dynamics.cases], list(dynamics.missing)
 
 
 @router.get(
@@ -97,7 +76,7 @@ def read_dynamics(
             drag_area_m2=vehicle.drag_area_m2,
             centre_of_pressure_height_m=vehicle.centre_of_pressure_height_m,
             **lift_inputs(data),
-            empty_cg_height_m=_r(dynamics.empty_cg_height_m, 4),
+            empty_cg_height_m=rounded(dynamics.empty_cg_height_m, 4),
             air_density_kg_m3=density,
             g_ms2=G,
         ),
@@ -109,9 +88,9 @@ def read_dynamics(
                 lsf=round(float(row.lsf), 4),
                 compliant=row.compliant,
                 **case_figures(figures),
-                lsf_at_speed=_r(speed.lsf_at_speed, 4),
+                lsf_at_speed=rounded(speed.lsf_at_speed, 4),
                 compliant_at_speed=speed.compliant_at_speed,
-                margin_speed_kmh=_r(speed.margin_speed_kmh, 1),
+                margin_speed_kmh=rounded(speed.margin_speed_kmh, 1),
             )
             for row, figures, speed in zip(inspection.loading_cases, dynamics.cases, moving, strict=True)
         ],

@@ -4,22 +4,19 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from datetime import UTC, date, datetime
-from decimal import ROUND_HALF_EVEN, ROUND_HALF_UP, Decimal
-from fractions import Fraction
-from operator import itemgetter
-from typing import cast
+from datetime import date, datetime
+from decimal import Decimal
 
-from sqlalchemy import Table, func, select
-from sqlalchemy.orm import Session, lazyload, make_transient_to_detached
-from sqlalchemy.orm.attributes import set_committed_value
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session, lazyload
 
 from app.db import begin_write, utcnow
 from app.errors import InvalidInput, NotFound
-from app.inspections.dynamics import CgLift, figures_for_inspection
-from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.inspections.dynamics import CgLift, checked_dynamics, estimate_inputs
+from app.inspections.models import Inspection
+from app.inspections.record import InspectionRecord, Provenance, new_record
+from app.inspections.store import store_record
 from app.stability import (
-    RULES_VERSION,
     Assessment,
     AssessmentInput,
     LoadItem,
@@ -30,8 +27,9 @@ from app.stability import (
     WheelReadings,
     assess,
 )
-from app.stability.model import WHEELS
+from app.stability.dynamics import Dynamics
 from app.stations.models import Station
+from app.stations.on_file import StationOnFile
 from app.stations.scale import (
     ScaleRules,
     check_calibration,
@@ -39,7 +37,9 @@ from app.stations.scale import (
     check_settled,
     configured_scale_rules,
 )
+from app.vehicles.dynamics_service import current_revision
 from app.vehicles.models import Vehicle
+from app.vehicles.on_file import VehicleOnFile
 from app.vehicles.service import get_vehicle, normalise_registration, valid_key
 
 
@@ -59,18 +59,12 @@ class InspectionRequest:
     cg_height_m: Decimal | None = None
 
 
-def quantize(value: Fraction, places: int) -> Decimal:
-    """An exact fraction rounded half-even to `places` decimals, for storage and display only."""
-    exponent = Decimal(1).scaleb(-places)
-    return (Decimal(value.numerator) / Decimal(value.denominator)).quantize(exponent, ROUND_HALF_EVEN)
-
-
-def build_input(vehicle: Vehicle, request: InspectionRequest) -> AssessmentInput:
+def build_input(vehicle: VehicleOnFile, request: InspectionRequest) -> AssessmentInput:
     """The pure core's input, filling what the request leaves out from the vehicle's record."""
     return AssessmentInput(
         readings=request.readings,
         wheelbase_m=request.wheelbase_m if request.wheelbase_m is not None else vehicle.wheelbase_m,
-        seats=request.seats or tuple(Seat(s.role, s.x_m) for s in vehicle.seats),  # type: ignore[arg-type]
+        seats=request.seats or vehicle.seats,
         load_items=request.load_items,
         measured_cases=request.measured_cases,
         occupant_mass_kg=request.occupant_mass_kg,
@@ -93,6 +87,62 @@ def refusal(error: StabilityError) -> InvalidInput:
     return InvalidInput(message, field=error.field, rule=error.rule)
 
 
+@dataclass(frozen=True)
+class Decided:
+    """An inspection decided and rounded as it will be stored, with its estimates."""
+
+    record: InspectionRecord
+    estimates: Dynamics
+
+
+def decide(
+    request: InspectionRequest,
+    *,
+    vehicle: VehicleOnFile,
+    station: StationOnFile | None,
+    rules: Rules,
+    scale_rules: ScaleRules,
+    user_id: int | None = None,
+    today: date | None = None,
+) -> Decided:
+    """Check the scale, assess exactly, check the estimates' inputs, and round the record once (no I/O).
+
+    A station's scale must be calibrated on `today` (UTC) and every reading within its capacity;
+    repeated readings must agree within `scale_rules`. Every refusal is a ServiceError naming the field.
+    """
+    now = utcnow()
+    check_scale(request, station=station, rules=scale_rules, today=today or now.date())
+    data = build_input(vehicle, request)
+    result = assess_input(data, rules)
+    estimate_columns = estimate_inputs(
+        cg_lift=request.cg_lift,
+        cg_height_m=request.cg_height_m,
+        seats=request.seats,
+        vehicle_seats=vehicle.seats,
+        figures=vehicle.figures,
+    )
+    record = new_record(
+        data=data,
+        result=result,
+        rules=rules,
+        provenance=Provenance(
+            vehicle_id=vehicle.id,
+            registration_number=vehicle.registration_number,
+            station_id=station.id if station else None,
+            station_name=station.name if station else None,
+            calibration_certificate=station.calibration_certificate if station else None,
+            calibration_valid_until=station.calibration_valid_until if station else None,
+            user_id=user_id,
+        ),
+        measured_cases=request.measured_cases,
+        load_items=request.load_items,
+        dynamics_revision_id=vehicle.figures_revision_id,
+        dynamics_input=estimate_columns,
+        created_at=now,
+    )
+    return Decided(record, checked_dynamics(record, vehicle.figures))
+
+
 def record_inspection(
     session: Session,
     *,
@@ -100,110 +150,36 @@ def record_inspection(
     rules: Rules,
     station: Station | None = None,
     user_id: int | None = None,
-    on_stored: Callable[[Session, Inspection], None] | None = None,
+    on_stored: Callable[[Session, int], None] | None = None,
     scale_rules: ScaleRules | None = None,
     today: date | None = None,
 ) -> Inspection:
     """Assess and store one inspection in a single transaction; nothing is stored if it is refused.
 
-    A station's scale must be calibrated on `today` (UTC) and every reading within its capacity;
-    repeated readings must agree within `scale_rules` (None: the configured rules).
-    `on_stored(session, inspection)` runs once the inspection has its id, before the commit, so a
-    caller can store a row of its own in the same transaction (the pages' one-time form token, the
-    API's idempotency key).
+    The officers' pages and the command line take this door; the stations' API takes the same steps
+    in `app.inspections.submission`. `on_stored(session, inspection_id)` runs once the inspection
+    has its id, before the commit, so a caller can store a row of its own in the same transaction
+    (the pages' one-time form token).
     """
-    check_scale(request, station=station, rules=scale_rules or configured_scale_rules(), today=today)
-    vehicle = get_vehicle(session, request.registration_number)
-    data = build_input(vehicle, request)
-    result = assess_input(data, rules)
-    estimates = figures_for_inspection(
-        session,
+    found = get_vehicle(session, request.registration_number)
+    vehicle = VehicleOnFile.of(found, current_revision(session, found.id))
+    decided = decide(
+        request,
         vehicle=vehicle,
-        result=result,
-        cg_lift=request.cg_lift,
-        cg_height_m=request.cg_height_m,
-        seats=request.seats,
-        has_load_items=bool(request.load_items),
+        station=StationOnFile.of(station) if station else None,
+        rules=rules,
+        scale_rules=scale_rules or configured_scale_rules(),
+        user_id=user_id,
+        today=today,
     )
     begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn
-    columns: dict[str, object] = {
-        "vehicle_id": vehicle.id,
-        "station_id": station.id if station else None,
-        "user_id": user_id,
-        "created_at": utcnow(),
-        "wheelbase_m": _scale(result.wheelbase_m, 4),
-        "occupant_mass_kg": _scale(result.occupant_mass_kg, 3),
-        "sum_tolerance": _scale(rules.sum_tolerance, 4),
-        "rules_version": RULES_VERSION,
-        "occupant_config": {
-            "seats": [{"role": s.role, "x_m": str(s.x_m)} for s in data.seats],
-            "load_items": [
-                {"label": i.label, "mass_kg": str(i.mass_kg), "x_m": str(i.x_m)} for i in request.load_items
-            ],
-        },
-        "front_kg": quantize(result.readings.front_kg, 4),
-        "left_rear_kg": quantize(result.readings.left_rear_kg, 4),
-        "right_rear_kg": quantize(result.readings.right_rear_kg, 4),
-        "overall_kg": None if result.readings.overall_kg is None else quantize(result.readings.overall_kg, 4),
-        "cg_from_front_m": quantize(result.cg_from_front_m, 5),
-        "compliant": result.compliant,
-        "max_compliant_occupants": result.max_compliant_occupants,
-        "calibration_certificate": station.calibration_certificate if station else None,
-        "calibration_valid_until": station.calibration_valid_until if station else None,
-        **estimates.columns,
-    }
-    # Core INSERTs on the session's connection, in its transaction: the ORM's unit of work would
-    # cost as much again in Python for rows that are written once and never changed.
-    connection = session.connection()
-    inspection_id = connection.execute(_INSERT_INSPECTION, columns).scalar_one()
-    readings = _reading_rows(inspection_id, request)
-    cases = _case_rows(inspection_id, result)
-    connection.execute(_READING.insert(), readings)
-    connection.execute(_CASE.insert(), cases)
-    inspection = _as_stored(
-        session, Inspection(id=inspection_id, **columns), vehicle, station, readings, cases
-    )
-    set_committed_value(inspection, "dynamics_revision", estimates.revision)
+    inspection_id = store_record(session.connection(), decided.record)
     if on_stored is not None:
-        on_stored(session, inspection)
+        on_stored(session, inspection_id)
     session.commit()
+    inspection = session.get(Inspection, inspection_id)
+    assert inspection is not None
     return inspection
-
-
-# The tables themselves, for Core INSERTs (the mapped classes would take the ORM's bulk path).
-_INSPECTION = cast(Table, Inspection.__table__)
-_READING = cast(Table, Reading.__table__)
-_CASE = cast(Table, LoadingCaseRow.__table__)
-_INSERT_INSPECTION = _INSPECTION.insert().returning(_INSPECTION.c.id)
-
-
-def _as_stored(
-    session: Session,
-    inspection: Inspection,
-    vehicle: Vehicle,
-    station: Station | None,
-    readings: list[dict[str, object]],
-    cases: list[dict[str, object]],
-) -> Inspection:
-    """The inspection just inserted, joined to the session as if loaded from it (nothing read back).
-
-    It gets its vehicle, station, readings and cases in their relationships' order. Only the
-    inspection joins the session's identity map: its rows are read through it, never changed.
-    """
-    make_transient_to_detached(inspection)
-    session.add(inspection)
-    set_committed_value(inspection, "vehicle", vehicle)
-    set_committed_value(inspection, "station", station)
-    in_order = sorted(readings, key=itemgetter("case_occupants", "wheel", "sequence"))
-    set_committed_value(inspection, "readings", [Reading(**row) for row in in_order])
-    by_occupants = sorted(cases, key=itemgetter("occupants"))
-    set_committed_value(inspection, "loading_cases", [LoadingCaseRow(**row) for row in by_occupants])
-    return inspection
-
-
-def _scale(value: Decimal, places: int) -> Decimal:
-    """A value at its column's scale, as the database gives it back (NUMERIC rounds half away from zero)."""
-    return Decimal(value).quantize(Decimal(1).scaleb(-places), ROUND_HALF_UP)
 
 
 def reading_sets(request: InspectionRequest) -> list[tuple[str, WheelReadings]]:
@@ -215,49 +191,14 @@ def reading_sets(request: InspectionRequest) -> list[tuple[str, WheelReadings]]:
 
 
 def check_scale(
-    request: InspectionRequest, *, station: Station | None, rules: ScaleRules, today: date | None = None
+    request: InspectionRequest, *, station: StationOnFile | None, rules: ScaleRules, today: date
 ) -> None:
     """Refuse readings from a station scale out of calibration or beyond capacity, or not settled."""
     sets = reading_sets(request)
     if station is not None:
-        check_calibration(station, today=today or datetime.now(UTC).date(), rules=rules)
+        check_calibration(station, today=today, rules=rules)
         check_capacity(station, sets)
     check_settled(sets, rules=rules, division_kg=station.division_kg if station else None)
-
-
-def _reading_rows(inspection_id: int, request: InspectionRequest) -> list[dict[str, object]]:
-    """Every raw reading of the request as a row: the base weighing (case 0), then each measured case."""
-    sets = [(0, request.readings)] + [(m.occupants, m.readings) for m in request.measured_cases]
-    return [
-        {
-            "inspection_id": inspection_id,
-            "case_occupants": case_occupants,
-            "wheel": wheel,
-            "sequence": i,
-            "value_kg": _scale(value, 3),
-        }
-        for case_occupants, readings in sets
-        for wheel in WHEELS
-        for i, value in enumerate(readings.values(wheel))
-    ]
-
-
-def _case_rows(inspection_id: int, result: Assessment) -> list[dict[str, object]]:
-    """Table 4 as rows: each loading case's exact values rounded for storage, and its exact LSF."""
-    return [
-        {
-            "inspection_id": inspection_id,
-            "occupants": case.occupants,
-            "total_kg": quantize(case.total_kg, 6),
-            "rear_kg": quantize(case.rear_kg, 6),
-            "lsf": quantize(case.lsf, 8),
-            "variance": quantize(case.variance, 8),
-            "compliant": case.compliant,
-            "measured": case.measured,
-            "lsf_exact": f"{case.lsf.numerator}/{case.lsf.denominator}",
-        }
-        for case in result.cases
-    ]
 
 
 def get_inspection(session: Session, inspection_id: int, *, station_id: int | None = None) -> Inspection:

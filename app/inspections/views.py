@@ -94,9 +94,9 @@ def create_inspection(
     parsed = read_inspection_form(form, vehicle)
     if parsed.request is not None:
 
-        def store_token(db: Session, inspection: Inspection) -> None:
+        def store_token(db: Session, inspection_id: int) -> None:
             submissions.remember(
-                db, token=token, user_id=login.user_id, redirect_path=f"/inspections/{inspection.id}"
+                db, token=token, user_id=login.user_id, redirect_path=f"/inspections/{inspection_id}"
             )
 
         try:

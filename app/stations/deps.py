@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import Depends, HTTPException, status
+from fastapi import Depends, Header, HTTPException, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+from fastapi.security.utils import get_authorization_scheme_param
 from sqlalchemy.orm import Session
 
 from app.audit.recorder import Actor, act_as
@@ -14,33 +15,58 @@ from app.db import get_session
 from app.stations.models import Station
 from app.stations.rate_limit import RateLimit, authenticate_and_count
 
-bearer = HTTPBearer(auto_error=False, description="The station's API key, from `trikecert create-station`.")
+BEARER_SCHEME = "HTTPBearer"  # the security scheme's name in OpenAPI
+bearer = HTTPBearer(
+    auto_error=False,
+    scheme_name=BEARER_SCHEME,
+    description="The station's API key, from `trikecert create-station`.",
+)
 SessionDep = Annotated[Session, Depends(get_session)]
 
 
-def current_station(
-    session: SessionDep,
-    credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)],
-) -> Station:
-    """The station whose key signs this request; 401 when the key is missing, unknown or disabled.
-
-    Every authenticated request counts against the station key's rate limit (429 beyond it).
-    """
-    if credentials is None or credentials.scheme.lower() != "bearer":
+def bearer_key(authorization: str | None) -> str:
+    """The station key of an `Authorization: Bearer <key>` header; 401 when there is none (the key is
+    checked against the stations later)."""
+    scheme, key = get_authorization_scheme_param(authorization)
+    if not key or scheme.lower() != "bearer":
         raise HTTPException(
             status.HTTP_401_UNAUTHORIZED,
             "Authorization: send the station key as `Authorization: Bearer <key>`",
             headers={"WWW-Authenticate": "Bearer"},
         )
+    return key
+
+
+def station_key(credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)]) -> str:
+    """The key a request is signed with (the security scheme in OpenAPI); 401 when there is none."""
+    return bearer_key(f"{credentials.scheme} {credentials.credentials}" if credentials else None)
+
+
+StationKey = Annotated[str, Depends(station_key)]
+# The raw header, read without the security dependency's cost (the hot path declares the scheme in
+# its OpenAPI entry instead): hand it to `bearer_key`.
+AuthorizationHeader = Annotated[str | None, Header(alias="Authorization", include_in_schema=False)]
+
+
+def unknown_key() -> HTTPException:
+    """401 for a key no active station holds."""
+    return HTTPException(
+        status.HTTP_401_UNAUTHORIZED,
+        "Authorization: the station key is not recognised or the station is disabled",
+        headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
+    )
+
+
+def current_station(session: SessionDep, key: StationKey) -> Station:
+    """The station whose key signs this request; 401 when the key is missing, unknown or disabled.
+
+    Every authenticated request counts against the station key's rate limit (429 beyond it).
+    """
     settings = get_settings()
     limit = RateLimit(settings.station_rate_limit, settings.station_rate_window_seconds)
-    station = authenticate_and_count(session, credentials.credentials, limit=limit)
+    station = authenticate_and_count(session, key, limit=limit)
     if station is None:
-        raise HTTPException(
-            status.HTTP_401_UNAUTHORIZED,
-            "Authorization: the station key is not recognised or the station is disabled",
-            headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
-        )
+        raise unknown_key()
     act_as(session, Actor("station", station.id, station.name))
     return station
 

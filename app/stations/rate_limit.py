@@ -53,7 +53,7 @@ class RateLimited(ServiceError):
         self.headers = {"Retry-After": str(retry_after)}
 
 
-def _on_conflict_count(statement: Any, *returning: Any) -> Any:
+def on_conflict_count(statement: Any, *returning: Any) -> Any:
     """Open a new window, or count this request in the current one; return the count and window
     (after any `returning` columns)."""
     row = StationRateWindow
@@ -72,14 +72,17 @@ def _upsert(session: Session, station_id: int, window_start: int) -> Any:
     dialect = session.get_bind().dialect.name
     insert = postgresql.insert if dialect == "postgresql" else sqlite.insert
     values = {"station_id": station_id, "window_start": window_start, "request_count": 1}
-    return _on_conflict_count(insert(StationRateWindow).values(**values))
+    return on_conflict_count(insert(StationRateWindow).values(**values))
 
 
-def _window_start(limit: RateLimit, now: float) -> int:
+def window_start(limit: RateLimit, now: float) -> int:
+    """Unix seconds at which the window holding `now` opened."""
     return int(now // limit.window_seconds) * limit.window_seconds
 
 
-def _check(limit: RateLimit, count: int, started: int, now: float) -> None:
+def check_count(limit: RateLimit, count: int, started: int, now: float) -> None:
+    """RateLimited (429, with Retry-After) when `count` requests in the window opened at `started`
+    are over the limit."""
     if count > limit.limit:
         retry_after = max(1, math.ceil(started + limit.window_seconds - now))
         raise RateLimited(limit, retry_after)
@@ -89,9 +92,9 @@ def _count_in_session(session: Session, *, station_id: int, limit: RateLimit, no
     """Count one request of this station in the session's own transaction and commit; RateLimited
     when it is over the limit. SQLite takes the writer's turn for the statement and its commit."""
     begin_write(session)
-    count, started = session.execute(_upsert(session, station_id, _window_start(limit, now))).one()
+    count, started = session.execute(_upsert(session, station_id, window_start(limit, now))).one()
     session.commit()
-    _check(limit, count, started, now)
+    check_count(limit, count, started, now)
 
 
 @cache
@@ -102,7 +105,7 @@ def _authenticate_and_count_statement() -> Any:
     """
     key_hash = bindparam("key_hash", type_=String)
     station = select(Station.__table__).where(Station.key_hash == key_hash, Station.active).cte("station")
-    counted = _on_conflict_count(
+    counted = on_conflict_count(
         postgresql.insert(StationRateWindow).from_select(
             ["station_id", "window_start", "request_count"],
             select(station.c.id, bindparam("window_start", type_=BigInteger), literal(1)),
@@ -131,7 +134,7 @@ def authenticate_and_count(
     # Every request of a station bumps the same row: the statement runs in autocommit on its own
     # connection, so the row lock is held only while the server runs it, never across a round trip
     # or a Python thread waiting for the GIL; it is returned before the session takes one.
-    parameters = {"key_hash": hash_key(key), "window_start": _window_start(limit, now)}
+    parameters = {"key_hash": hash_key(key), "window_start": window_start(limit, now)}
     with bind.connect().execution_options(isolation_level="AUTOCOMMIT") as connection:
         row = connection.execute(_authenticate_and_count_statement(), parameters).mappings().one_or_none()
     if row is None:
@@ -139,7 +142,7 @@ def authenticate_and_count(
     found = Station(**{column.key: row[column.name] for column in Station.__table__.columns})
     make_transient_to_detached(found)
     station = session.merge(found, load=False)  # the session's own instance if it already has one
-    _check(limit, row["request_count"], row["window_start"], now)
+    check_count(limit, row["request_count"], row["window_start"], now)
     return station
 
 

@@ -12,7 +12,7 @@ from app.config import get_settings
 from app.errors import InvalidInput, ServiceError
 from app.stability import WheelReadings
 from app.stability.model import WHEELS
-from app.stations.models import Station
+from app.stations.on_file import StationOnFile
 
 WHEEL_NAMES = {
     "front_kg": "the front wheel",
@@ -42,7 +42,7 @@ class CalibrationRefused(ServiceError):
     status = 403
 
 
-def check_calibration(station: Station, *, today: date, rules: ScaleRules) -> None:
+def check_calibration(station: StationOnFile, *, today: date, rules: ScaleRules) -> None:
     """Refuse a station whose calibration lapsed before `today` (UTC), or is not on record when required."""
     valid_until = station.calibration_valid_until
     if valid_until is None:
@@ -79,7 +79,7 @@ def _kg(value: Decimal) -> str:
     return f"{value.normalize():f}"
 
 
-def check_capacity(station: Station, sets: Sequence[tuple[str, WheelReadings]]) -> None:
+def check_capacity(station: StationOnFile, sets: Sequence[tuple[str, WheelReadings]]) -> None:
     """Refuse any reading above the capacity of the station's scale, naming the reading."""
     capacity = station.capacity_kg
     if capacity is None:

@@ -13,7 +13,8 @@ from sqlalchemy.orm import Session
 from app.db import begin_write, utcnow
 from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection
-from app.inspections.service import quantize, refusal
+from app.inspections.record import quantize
+from app.inspections.service import refusal
 from app.stability import RULES_VERSION, AssessmentInput, LoadItem, MeasuredCase, Rules, Seat, StabilityError
 from app.stability.model import WHEELS, WheelReadings
 from app.stability.type_assessment import Member, TypeAssessment, assess_type

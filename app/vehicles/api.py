@@ -10,7 +10,13 @@ from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
-from app.idempotency.http import IdempotencyKeyHeader, Remember, idempotent_responses, respond_once
+from app.idempotency.http import (
+    IdempotencyKeyHeader,
+    Remember,
+    claim_of,
+    idempotent_responses,
+    respond_once,
+)
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.dynamics_api import dynamics_figures, dynamics_out
@@ -69,7 +75,7 @@ def create_vehicle(
 
         def on_stored(db: Session, vehicle: Vehicle) -> None:
             answered.append(vehicle_out(vehicle).model_dump_json().encode())
-            remember(db, answered[0])
+            remember(answered[0])
 
         register_vehicle(
             session,
@@ -85,15 +91,15 @@ def create_vehicle(
         )
         return answered[0]
 
-    return respond_once(
-        session,
-        station_id=station.id,
-        header=idempotency_key,
-        operation="POST /api/v1/vehicles",
-        payload=body.model_dump(mode="json"),
-        status_code=status.HTTP_201_CREATED,
-        perform=perform,
-    )
+    claim = None
+    if idempotency_key is not None:
+        claim = claim_of(
+            idempotency_key,
+            station_id=station.id,
+            operation="POST /api/v1/vehicles",
+            payload=body.model_dump(mode="json"),
+        )
+    return respond_once(session, claim=claim, status_code=status.HTTP_201_CREATED, perform=perform)
 
 
 @router.get(

@@ -135,13 +135,20 @@ def _check_layout(wheelbase_m: Decimal, seats: list[tuple[str, Decimal]], rules:
         raise InvalidInput(message, field=error.field, rule=error.rule) from error
 
 
-def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:
-    """The vehicle with this registration (normalised), or None; a text no registration can be is None."""
+def lookup_key(registration_number: str) -> str | None:
+    """The key a registration is looked up by; None for a text no registration can be (never sent to
+    the database: PostgreSQL cannot even compare a NUL)."""
     try:
         key = normalise_registration(check_text(registration_number, max_length=REGISTRATION_LENGTH))
     except TextRefused:
         return None
-    if not valid_key(key):  # never sent to the database: PostgreSQL cannot even compare a NUL
+    return key if valid_key(key) else None
+
+
+def find_vehicle(session: Session, registration_number: str) -> Vehicle | None:
+    """The vehicle with this registration (normalised), or None; a text no registration can be is None."""
+    key = lookup_key(registration_number)
+    if key is None:
         return None
     # The seats in the same round trip: every caller reads them.
     query = select(Vehicle).where(Vehicle.registration_key == key).options(joinedload(Vehicle.seats))
@@ -152,10 +159,15 @@ def get_vehicle(session: Session, registration_number: str) -> Vehicle:
     """The vehicle with this registration, or NotFound saying it is not registered."""
     vehicle = find_vehicle(session, registration_number)
     if vehicle is None:
-        raise NotFound(
-            f"registration_number: no vehicle {display_registration(registration_number)} is registered; "
-            "register it first with POST /api/v1/vehicles",
-            field="registration_number",
-            rule="registered",
-        )
+        raise not_registered(registration_number)
     return vehicle
+
+
+def not_registered(registration_number: str) -> NotFound:
+    """404: no vehicle has this registration; register it first."""
+    return NotFound(
+        f"registration_number: no vehicle {display_registration(registration_number)} is registered; "
+        "register it first with POST /api/v1/vehicles",
+        field="registration_number",
+        rule="registered",
+    )

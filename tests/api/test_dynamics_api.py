@@ -3,8 +3,8 @@ illustrative track, radius, seat heights, tyres and drag, and the lift weighing 
 
 from __future__ import annotations
 
+from datetime import UTC, datetime
 from decimal import Decimal
-from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -12,7 +12,10 @@ from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.config import get_settings
-from app.inspections.dynamics import inspection_dynamics
+from app.inspections.dynamics import record_input
+from app.inspections.record import CaseRow, InspectionRecord
+from app.stability.dynamics import assess_dynamics
+from app.vehicles.dynamics_service import revision_figures
 
 ILLUSTRATIVE: dict[str, Any] = {
     **STUDY_VEHICLE,
@@ -192,18 +195,35 @@ def test_bad_speed_parameters_are_422(api: TestClient, params: dict[str, Any]) -
 
 def test_an_inspection_stored_before_the_migration_reads_with_every_estimate_unknown() -> None:
     # The columns the migration added are NULL on every older row: no revision, no lift weighing.
-    case = SimpleNamespace(occupants=0, total_kg=Decimal(359), rear_kg=Decimal(250), compliant=False)
-    old = SimpleNamespace(
+    lsf, variance = Decimal("0.69637883"), Decimal("-0.02971216")
+    case = CaseRow(0, Decimal(359), Decimal(250), lsf, variance, False, False, "")
+    old = InspectionRecord(
+        id=1,
+        registration_number="BDG 252 QH",
+        station_name=None,
+        vehicle_id=1,
+        station_id=None,
+        user_id=None,
+        created_at=datetime(2026, 11, 1, tzinfo=UTC),
+        wheelbase_m=Decimal(2),
+        occupant_mass_kg=Decimal(72),
+        sum_tolerance=Decimal("0.01"),
+        rules_version="lsf<2/3:cumulative-cases:v1",
+        occupant_config={"seats": [], "load_items": []},
         front_kg=Decimal(108),
         left_rear_kg=Decimal(115),
         right_rear_kg=Decimal(135),
         overall_kg=Decimal(359),
-        wheelbase_m=Decimal(2),
-        loading_cases=[case],
-        dynamics_revision=None,
+        cg_from_front_m=Decimal("1.39276"),
+        compliant=False,
+        max_compliant_occupants=0,
+        calibration_certificate=None,
+        calibration_valid_until=None,
+        dynamics_revision_id=None,
         dynamics_input=None,
-        occupant_config={"seats": [], "load_items": []},
+        readings=(),
+        cases=(case,),
     )
-    _, dynamics = inspection_dynamics(old)
+    dynamics = assess_dynamics(record_input(old, revision_figures(None)))
     assert dynamics.cases[0].rollover_threshold_g is None
     assert "track_m" in dynamics.missing

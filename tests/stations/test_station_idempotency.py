@@ -4,12 +4,14 @@ a success is kept as the answer, in the same transaction as what it created; old
 
 from __future__ import annotations
 
+import re
+from collections.abc import Iterator
 from datetime import timedelta
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import Engine, func, select, update
+from sqlalchemy import Connection, Engine, event, func, select, update
 from sqlalchemy.orm import Session
 from station_server import count_inspections, seed_study_vehicle
 
@@ -159,20 +161,26 @@ def test_a_refusal_is_not_kept_as_the_answer(study: TestClient, session: Session
 
 
 @pytest.fixture
-def crash_at_commit(monkeypatch: pytest.MonkeyPatch) -> list[set[str]]:
-    """Make the commit that would store an idempotency key fail, as a power cut would; note what it held."""
+def crash_at_commit(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[set[str]]]:
+    """Make the commit that would store an idempotency key fail, as a power cut would; note the tables
+    its transaction had written to."""
     held: list[set[str]] = []
-    real_commit = Session.commit
+    real_commit = Connection.commit
 
-    def commit(self: Session) -> None:
-        pending = {type(o).__name__ for o in self.new}
-        if "IdempotencyKey" in pending:
-            held.append(pending | {type(o).__name__ for o in self.identity_map.values()})
+    def note_inserts(connection: Connection, _cursor: Any, statement: str, *_args: Any) -> None:
+        connection.info.setdefault("inserted into", set()).update(re.findall(r"INSERT INTO (\w+)", statement))
+
+    def commit(self: Connection) -> None:
+        written = self.info.pop("inserted into", set())
+        if "idempotency_key" in written:
+            held.append(written)
             raise RuntimeError("power cut before the commit")
         real_commit(self)
 
-    monkeypatch.setattr(Session, "commit", commit)
-    return held
+    event.listen(Engine, "before_cursor_execute", note_inserts)
+    monkeypatch.setattr(Connection, "commit", commit)
+    yield held
+    event.remove(Engine, "before_cursor_execute", note_inserts)
 
 
 def test_a_crash_before_the_commit_leaves_neither_the_inspection_nor_the_key(
@@ -181,7 +189,9 @@ def test_a_crash_before_the_commit_leaves_neither_the_inspection_nor_the_key(
     response = post(study, INSPECTIONS, STUDY, "crash-key")
 
     assert response.status_code == 500
-    assert {"Inspection", "IdempotencyKey"} <= crash_at_commit[0], "the key was held with the inspection"
+    assert {"inspection", "reading", "loading_case", "idempotency_key"} <= crash_at_commit[0], (
+        "the key was held with the inspection"
+    )
     assert count_inspections(session) == 0
     assert keys_stored(session) == 0
     for rows in (Reading, LoadingCaseRow):  # inserted in the same transaction, gone with it
@@ -191,13 +201,13 @@ def test_a_crash_before_the_commit_leaves_neither_the_inspection_nor_the_key(
 def test_a_server_error_is_not_kept_as_the_answer(
     study: TestClient, session: Session, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import app.inspections.api as api_module
+    import app.inspections.submission as hot_path
 
     def broken(*_args: Any, **_kwargs: Any) -> Any:
         raise RuntimeError("a bug")
 
     with monkeypatch.context() as patch:
-        patch.setattr(api_module, "inspection_out", broken)
+        patch.setattr(hot_path, "inspection_answer", broken)
         assert post(study, INSPECTIONS, STUDY, "after-a-bug").status_code == 500
     assert keys_stored(session) == 0
 

@@ -1,0 +1,173 @@
+"""What a submission reads before it decides: the station holding the key, its request counted, and the
+vehicle on file with its seats and latest figures.
+
+On PostgreSQL that is one statement in autocommit (the rate-limit row is locked only while it runs):
+
+    WITH station AS (SELECT ... FROM station WHERE key_hash = :key_hash AND active),
+         counted AS (INSERT INTO station_rate_window ... SELECT station.id ... ON CONFLICT ... DO UPDATE
+                     ... RETURNING request_count, window_start)
+    SELECT station.*, counted.*, vehicle.* FROM station JOIN counted ON ...
+    LEFT JOIN (vehicle LEFT JOIN seat LEFT JOIN its latest vehicle_dynamics_revision) ON true
+    ORDER BY seat.position
+
+one row per seat. SQLite reads the same SELECT without `counted`, and counts the request in a write
+transaction of its own (its writer's turn), only when the key is a station's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from decimal import Decimal
+from functools import cache
+from typing import Any, cast
+
+from sqlalchemy import Connection, Row, Table, bindparam, func, literal, select, true
+from sqlalchemy.dialects import postgresql, sqlite
+
+from app.db import begin_connection_write
+from app.stability import Seat
+from app.stations.models import Station, StationRateWindow
+from app.stations.on_file import StationOnFile
+from app.stations.rate_limit import on_conflict_count
+from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.vehicles.dynamics_service import DynamicsFigures
+from app.vehicles.models import Seat as SeatRow
+from app.vehicles.models import Vehicle
+from app.vehicles.on_file import VehicleOnFile
+
+
+@dataclass(frozen=True)
+class Counted:
+    """This request's number in the station key's current window, and when that window opened."""
+
+    count: int
+    window_start: int
+
+
+@dataclass(frozen=True)
+class OnFile:
+    """What the database holds for one submission; None where nothing matched."""
+
+    station: StationOnFile | None  # None: no active station holds the key
+    counted: Counted | None  # None: not counted (no station, or no rate limit)
+    vehicle: VehicleOnFile | None  # None: no vehicle has the registration
+
+
+_STATION = cast(Table, Station.__table__)
+_VEHICLE = cast(Table, Vehicle.__table__)
+_SEAT = cast(Table, SeatRow.__table__)
+_REVISION = cast(Table, VehicleDynamicsRevision.__table__)
+_RATE = cast(Table, StationRateWindow.__table__)
+_STATION_COLUMNS = (
+    "id",
+    "name",
+    "calibration_certificate",
+    "calibration_valid_until",
+    "capacity_kg",
+    "division_kg",
+)
+
+
+def look_up(
+    connection: Connection, *, key_hash: str, registration_key: str | None, window_start: int | None
+) -> OnFile:
+    """The station holding the key (counted in the window opened at `window_start`, unless None) and
+    the vehicle with this lookup key (None: matches nothing)."""
+    parameters = {"key_hash": key_hash, "registration_key": registration_key, "window_start": window_start}
+    counted_here = window_start is not None and connection.dialect.name == "postgresql"
+    rows = connection.execute(_statement(counted_here), parameters).all()
+    if not rows:
+        return OnFile(None, None, None)
+    station = StationOnFile(**{name: getattr(rows[0], f"station_{name}") for name in _STATION_COLUMNS})
+    counted = None
+    if counted_here:
+        counted = Counted(rows[0].request_count, rows[0].window_start)
+    elif window_start is not None:
+        counted = _count_apart(connection, station.id, window_start)
+    return OnFile(station, counted, _vehicle(rows))
+
+
+def _vehicle(rows: Sequence[Row[Any]]) -> VehicleOnFile | None:
+    first = rows[0]
+    if first.vehicle_id is None:
+        return None
+    heights = first.seat_heights_m or []
+    return VehicleOnFile(
+        id=first.vehicle_id,
+        registration_number=first.registration_number,
+        wheelbase_m=first.wheelbase_m,
+        seats=tuple(Seat(row.seat_role, row.seat_x_m) for row in rows if row.seat_role is not None),
+        figures=DynamicsFigures(
+            seat_heights_m=tuple(None if z is None else Decimal(z) for z in heights),
+            **{name: getattr(first, name) for name in DYNAMICS_FIELDS},
+        ),
+        figures_revision_id=first.revision_id,
+    )
+
+
+def _count_apart(connection: Connection, station_id: int, window_start: int) -> Counted:
+    """SQLite: count the request in a write transaction of its own, committed at once."""
+    begin_connection_write(connection)
+    statement = on_conflict_count(
+        sqlite.insert(StationRateWindow).values(
+            station_id=station_id, window_start=window_start, request_count=1
+        )
+    )
+    count, started = connection.execute(statement).one()
+    connection.commit()
+    return Counted(count, started)
+
+
+@cache
+def _statement(counted_here: bool) -> Any:
+    """The look-up (built once per shape): one row per seat; with `counted_here`, the count too."""
+    station = (
+        select(*[_STATION.c[name].label(f"station_{name}") for name in _STATION_COLUMNS])
+        .where(_STATION.c.key_hash == bindparam("key_hash"), _STATION.c.active)
+        .cte("key_holder")
+    )
+    latest = (
+        select(func.max(_REVISION.c.revision))
+        .where(_REVISION.c.vehicle_id == _VEHICLE.c.id)
+        .correlate(_VEHICLE)
+        .scalar_subquery()
+    )
+    vehicle = (
+        select(
+            _VEHICLE.c.id.label("vehicle_id"),
+            _VEHICLE.c.registration_number,
+            _VEHICLE.c.wheelbase_m,
+            _SEAT.c.position.label("seat_position"),
+            _SEAT.c.role.label("seat_role"),
+            _SEAT.c.x_m.label("seat_x_m"),
+            _REVISION.c.id.label("revision_id"),
+            _REVISION.c.seat_heights_m,
+            *[_REVISION.c[name] for name in DYNAMICS_FIELDS],
+        )
+        .select_from(_VEHICLE)
+        .outerjoin(_SEAT, _SEAT.c.vehicle_id == _VEHICLE.c.id)
+        .outerjoin(_REVISION, (_REVISION.c.vehicle_id == _VEHICLE.c.id) & (_REVISION.c.revision == latest))
+        .where(_VEHICLE.c.registration_key == bindparam("registration_key"))
+        .subquery("vehicle")
+    )
+    query = select(station, vehicle).select_from(station).outerjoin(vehicle, true())
+    if counted_here:
+        counted = on_conflict_count(
+            postgresql.insert(StationRateWindow).from_select(
+                ["station_id", "window_start", "request_count"],
+                select(
+                    station.c.station_id,
+                    bindparam("window_start", type_=_RATE.c.window_start.type),
+                    literal(1),
+                ),
+            ),
+            _RATE.c.station_id,
+        ).cte("request_counted")
+        query = (
+            select(station, counted.c.request_count, counted.c.window_start, vehicle)
+            .select_from(station)
+            .join(counted, counted.c.station_id == station.c.station_id)
+            .outerjoin(vehicle, true())
+        )
+    return query.order_by(vehicle.c.seat_position)
