@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import date, datetime
-from decimal import ROUND_HALF_EVEN, ROUND_HALF_UP, Decimal
+from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
 from typing import Any
 
@@ -18,9 +18,12 @@ from app.stability.model import WHEELS, MeasuredCase
 
 
 def quantize(value: Fraction, places: int) -> Decimal:
-    """An exact fraction rounded half-even to `places` decimals, for storage and display only."""
-    exponent = Decimal(1).scaleb(-places)
-    return (Decimal(value.numerator) / Decimal(value.denominator)).quantize(exponent, ROUND_HALF_EVEN)
+    """An exact fraction rounded half-even to `places` decimals, for storage and display only.
+
+    Rounded once, on the exact value (`round` of a Fraction is exact), never through a Decimal
+    division that would round to the context's 28 digits first.
+    """
+    return Decimal(round(value * 10**places)).scaleb(-places)
 
 
 def at_scale(value: Decimal, places: int) -> Decimal:

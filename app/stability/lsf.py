@@ -29,14 +29,21 @@ def mean(values: Sequence[Decimal]) -> Fraction:
     return sum((Fraction(v) for v in values), Fraction(0)) / len(values)
 
 
+def checked_mean(values: Sequence[Decimal]) -> Fraction:
+    """The exact mean of readings that passed `check_readings` (finite, at most 3000 kg to 3 places,
+    at most 20 of them): their sum has at most 8 digits, so the Decimal sum is exact, and one
+    Fraction is made instead of one per reading."""
+    return Fraction(sum(values, Decimal(0))) / len(values)
+
+
 def average_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "readings") -> AveragedReadings:
     """Validate and average one weighing's readings, checking the wheel sum against the overall weight."""
     check_readings(readings, rules, prefix=prefix)
-    overall = mean(readings.overall_kg) if readings.overall_kg else None
+    overall = checked_mean(readings.overall_kg) if readings.overall_kg else None
     averaged = AveragedReadings(
-        front_kg=mean(readings.front_kg),
-        left_rear_kg=mean(readings.left_rear_kg),
-        right_rear_kg=mean(readings.right_rear_kg),
+        front_kg=checked_mean(readings.front_kg),
+        left_rear_kg=checked_mean(readings.left_rear_kg),
+        right_rear_kg=checked_mean(readings.right_rear_kg),
         overall_kg=overall,
         spread_kg={
             wheel: Fraction(max(values) - min(values))
@@ -73,11 +80,12 @@ def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules)
 
     measured = {m.occupants: m for m in data.measured_cases}
     cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "load_items")]
+    occupant = Fraction(mass)
     for index, seat in enumerate(data.seats):
         occupants = index + 1
         # Moments about the front contact point: an occupant at x adds m*x/WB to the rear axle.
-        total += Fraction(mass)
-        rear += Fraction(mass) * Fraction(seat.x_m) / wheelbase
+        total += occupant
+        rear += occupant * Fraction(seat.x_m) / wheelbase
         if occupants in measured:
             prefix = f"measured_cases[{data.measured_cases.index(measured[occupants])}].readings"
             weighed = average_readings(measured[occupants].readings, rules, prefix=prefix)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from decimal import Decimal
+from functools import cached_property
 from fractions import Fraction
 from typing import Literal
 
@@ -127,7 +128,9 @@ class LoadingCase:
         """Load on the front wheel."""
         return self.total_kg - self.rear_kg
 
-    @property
+    # Computed once per case (a frozen dataclass keeps cached properties in its __dict__): the
+    # verdict, the variance and the stored figures all read the same exact fraction.
+    @cached_property
     def lsf(self) -> Fraction:
         """Lateral Stability Factor: the share of the weight on the rear wheels."""
         return self.rear_kg / self.total_kg
@@ -137,7 +140,7 @@ class LoadingCase:
         """2/3 - LSF: positive is margin, negative is excess."""
         return LSF_LIMIT - self.lsf
 
-    @property
+    @cached_property
     def compliant(self) -> bool:
         """C when LSF < 2/3 strictly; exactly 2/3 is NC."""
         return self.lsf < LSF_LIMIT
