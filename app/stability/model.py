@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from decimal import Decimal
-from functools import cached_property
 from fractions import Fraction
+from functools import cached_property
 from typing import Literal
 
 # The study's standard: the vehicle understeers (is laterally stable) when LSF < 2/3.
