@@ -19,13 +19,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from decimal import Decimal
-from functools import cache
 from typing import Any, cast
 
-from sqlalchemy import Connection, Row, Table, bindparam, func, literal, select, true
+from sqlalchemy import Connection, Table, bindparam, func, literal, select, true
 from sqlalchemy.dialects import postgresql, sqlite
 
 from app.db import begin_connection_write
+from app.prepared import PreparedCache
 from app.stability import Seat
 from app.stations.models import Station, StationRateWindow
 from app.stations.on_file import StationOnFile
@@ -76,33 +76,34 @@ def look_up(
     the vehicle with this lookup key (None: matches nothing)."""
     parameters = {"key_hash": key_hash, "registration_key": registration_key, "window_start": window_start}
     counted_here = window_start is not None and connection.dialect.name == "postgresql"
-    rows = connection.execute(_statement(counted_here), parameters).all()
+    statement = _COUNTED_HERE if counted_here else _NOT_COUNTED
+    rows = statement(connection).execute(connection, parameters)
     if not rows:
         return OnFile(None, None, None)
-    station = StationOnFile(**{name: getattr(rows[0], f"station_{name}") for name in _STATION_COLUMNS})
+    station = StationOnFile(**{name: rows[0][f"station_{name}"] for name in _STATION_COLUMNS})
     counted = None
     if counted_here:
-        counted = Counted(rows[0].request_count, rows[0].window_start)
+        counted = Counted(rows[0]["request_count"], rows[0]["window_start"])
     elif window_start is not None:
         counted = _count_apart(connection, station.id, window_start)
     return OnFile(station, counted, _vehicle(rows))
 
 
-def _vehicle(rows: Sequence[Row[Any]]) -> VehicleOnFile | None:
+def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
     first = rows[0]
-    if first.vehicle_id is None:
+    if first["vehicle_id"] is None:
         return None
-    heights = first.seat_heights_m or []
+    heights = first["seat_heights_m"] or []
     return VehicleOnFile(
-        id=first.vehicle_id,
-        registration_number=first.registration_number,
-        wheelbase_m=first.wheelbase_m,
-        seats=tuple(Seat(row.seat_role, row.seat_x_m) for row in rows if row.seat_role is not None),
+        id=first["vehicle_id"],
+        registration_number=first["registration_number"],
+        wheelbase_m=first["wheelbase_m"],
+        seats=tuple(Seat(row["seat_role"], row["seat_x_m"]) for row in rows if row["seat_role"] is not None),
         figures=DynamicsFigures(
             seat_heights_m=tuple(None if z is None else Decimal(z) for z in heights),
-            **{name: getattr(first, name) for name in DYNAMICS_FIELDS},
+            **{name: first[name] for name in DYNAMICS_FIELDS},
         ),
-        figures_revision_id=first.revision_id,
+        figures_revision_id=first["revision_id"],
     )
 
 
@@ -119,7 +120,6 @@ def _count_apart(connection: Connection, station_id: int, window_start: int) -> 
     return Counted(count, started)
 
 
-@cache
 def _statement(counted_here: bool) -> Any:
     """The look-up (built once per shape): one row per seat; with `counted_here`, the count too."""
     station = (
@@ -171,3 +171,7 @@ def _statement(counted_here: bool) -> Any:
             .outerjoin(vehicle, true())
         )
     return query.order_by(vehicle.c.seat_position)
+
+
+_COUNTED_HERE = PreparedCache(lambda: _statement(counted_here=True))
+_NOT_COUNTED = PreparedCache(lambda: _statement(counted_here=False))

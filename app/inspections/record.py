@@ -20,10 +20,13 @@ from app.stability.model import WHEELS, MeasuredCase
 def quantize(value: Fraction, places: int) -> Decimal:
     """An exact fraction rounded half-even to `places` decimals, for storage and display only.
 
-    Rounded once, on the exact value (`round` of a Fraction is exact), never through a Decimal
-    division that would round to the context's 28 digits first.
+    Rounded once, on the exact value, in integers (as `round` of a Fraction does, without making a
+    Fraction per step), never through a Decimal division that would round to 28 digits first.
     """
-    return Decimal(round(value * 10**places)).scaleb(-places)
+    units, remainder = divmod(value.numerator * 10**places, value.denominator)
+    if 2 * remainder > value.denominator or (2 * remainder == value.denominator and units % 2):
+        units += 1  # past the half, or on it with an odd last digit: half-even
+    return Decimal(units).scaleb(-places)
 
 
 def at_scale(value: Decimal, places: int) -> Decimal:

@@ -20,14 +20,14 @@ cases each one executemany) in the caller's transaction.
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, astuple, fields
-from functools import cache
+from dataclasses import fields
 from typing import Any
 
 from sqlalchemy import JSON, Connection, Table, Text, bindparam, cast, column, func, insert, select, true
 
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.inspections.record import INSPECTION_COLUMNS, CaseRow, InspectionRecord, ReadingRow
+from app.prepared import PreparedCache
 
 _INSPECTION: Table = Inspection.__table__  # type: ignore[assignment]
 _READING: Table = Reading.__table__  # type: ignore[assignment]
@@ -45,28 +45,34 @@ def store_record(connection: Connection, record: InspectionRecord) -> int:
     columns = record.columns()
     if connection.dialect.name == "postgresql":
         rows = {"readings": _json_rows(record.readings), "cases": _json_rows(record.cases)}
-        return int(connection.execute(_one_statement(), {**columns, **rows}).scalar_one())
-    inspection_id = int(connection.execute(_INSERT_INSPECTION, columns).scalar_one())
-    connection.execute(
-        insert(_READING),
-        [
-            dict(zip(_READING_FIELDS, astuple(r), strict=True), inspection_id=inspection_id)
-            for r in record.readings
-        ],
+        return int(_ONE_STATEMENT(connection).execute(connection, {**columns, **rows})[0]["id"])
+    inspection_id = int(_INSERT_INSPECTION(connection).execute(connection, columns)[0]["id"])
+    _INSERT_READING(connection).execute_many(
+        connection, [{**vars(row), "inspection_id": inspection_id} for row in record.readings]
     )
-    connection.execute(
-        insert(_CASE),
-        [dict(zip(_CASE_FIELDS, astuple(c), strict=True), inspection_id=inspection_id) for c in record.cases],
+    _INSERT_CASE(connection).execute_many(
+        connection, [{**vars(row), "inspection_id": inspection_id} for row in record.cases]
     )
     return inspection_id
 
 
-_INSERT_INSPECTION = insert(_INSPECTION).returning(_INSPECTION.c.id)
+def _values(table: Table, names: tuple[str, ...]) -> dict[str, Any]:
+    """VALUES (:a, :b, ...) for these columns, each parameter typed as its column."""
+    return {name: bindparam(name, type_=table.c[name].type) for name in names}
+
+
+_INSERT_INSPECTION = PreparedCache(
+    lambda: insert(_INSPECTION).values(_values(_INSPECTION, INSPECTION_COLUMNS)).returning(_INSPECTION.c.id)
+)
+_INSERT_READING = PreparedCache(
+    lambda: insert(_READING).values(_values(_READING, ("inspection_id", *_READING_FIELDS)))
+)
+_INSERT_CASE = PreparedCache(lambda: insert(_CASE).values(_values(_CASE, ("inspection_id", *_CASE_FIELDS))))
 
 
 def _json_rows(rows: tuple[ReadingRow, ...] | tuple[CaseRow, ...]) -> str:
     """Rows as a JSON array of objects, decimals as strings (exact: PostgreSQL reads them as NUMERIC)."""
-    return json.dumps([asdict(row) for row in rows], default=str, separators=(",", ":"))
+    return json.dumps([vars(row) for row in rows], default=str, separators=(",", ":"))
 
 
 def _rows_of(table: Table, parameter: str, names: tuple[str, ...]) -> Any:
@@ -80,12 +86,11 @@ def _rows_of(table: Table, parameter: str, names: tuple[str, ...]) -> Any:
     )
 
 
-@cache
 def _one_statement() -> Any:
-    """PostgreSQL: the inspection, its readings and its cases in one statement (built once)."""
+    """PostgreSQL: the inspection, its readings and its cases in one statement."""
     inspection = (
         insert(_INSPECTION)
-        .values({name: bindparam(name, type_=_INSPECTION.c[name].type) for name in INSPECTION_COLUMNS})
+        .values(_values(_INSPECTION, INSPECTION_COLUMNS))
         .returning(_INSPECTION.c.id)
         .cte("new_inspection")
     )
@@ -104,3 +109,6 @@ def _one_statement() -> Any:
         ),
     )
     return select(inspection.c.id).add_cte(insert_readings.cte("new_readings"), insert_cases.cte("new_cases"))
+
+
+_ONE_STATEMENT = PreparedCache(_one_statement)
