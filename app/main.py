@@ -17,6 +17,7 @@ from app.certificates.public import public_router
 from app.config import get_settings
 from app.ops.docs import install_docs
 from app.ops.health import router as health_router
+from app.ops.liveness import install_liveness_first
 from app.ops.metrics import router as metrics_router
 from app.ops.requests import RequestContext, configure_logging
 from app.web.headers import install_security_headers
@@ -66,5 +67,6 @@ def create_app() -> FastAPI:
     install_web(app)  # the officer pages; after the API's error handlers
     app.add_middleware(RequestContext)
     install_security_headers(app)
+    install_liveness_first(app)  # outermost: a probe meets none of the above
 
     return app

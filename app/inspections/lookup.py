@@ -110,14 +110,11 @@ def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
 def _count_apart(connection: Connection, station_id: int, window_start: int) -> Counted:
     """SQLite: count the request in a write transaction of its own, committed at once."""
     begin_connection_write(connection)
-    statement = on_conflict_count(
-        sqlite.insert(StationRateWindow).values(
-            station_id=station_id, window_start=window_start, request_count=1
-        )
+    [row] = _COUNT_APART(connection).execute(
+        connection, {"station_id": station_id, "window_start": window_start}
     )
-    count, started = connection.execute(statement).one()
     connection.commit()
-    return Counted(count, started)
+    return Counted(row["request_count"], row["window_start"])
 
 
 def _statement(counted_here: bool) -> Any:
@@ -173,5 +170,14 @@ def _statement(counted_here: bool) -> Any:
     return query.order_by(vehicle.c.seat_position)
 
 
+_COUNT_APART = PreparedCache(
+    lambda: on_conflict_count(
+        sqlite.insert(StationRateWindow).values(
+            station_id=bindparam("station_id"),
+            window_start=bindparam("window_start"),
+            request_count=literal(1),
+        )
+    )
+)
 _COUNTED_HERE = PreparedCache(lambda: _statement(counted_here=True))
 _NOT_COUNTED = PreparedCache(lambda: _statement(counted_here=False))

@@ -77,6 +77,37 @@ def configure_logging(level: int = logging.INFO) -> None:
     root.propagate = False
 
 
+def request_id_of(scope: Scope) -> str:
+    """The request's id: the caller's X-Request-ID when it is sane, else a new random one."""
+    given = b""
+    for name, value in scope.get("headers", ()):
+        if name == REQUEST_ID_HEADER:
+            given = value  # the last one, if sent twice
+    return given.decode() if _VALID_ID.match(given) else uuid.uuid4().hex
+
+
+def record_request(scope: Scope, *, request_id: str, handler: str, status: int, started: float) -> None:
+    """Count and time an answered request, and queue its access log line."""
+    elapsed = time.perf_counter() - started
+    method = scope.get("method", "")
+    REQUESTS.labels(method, handler, str(status)).inc()
+    LATENCY.labels(method, handler).observe(elapsed)
+    if logger.isEnabledFor(logging.INFO):
+        fields = {
+            "request_id": request_id,
+            "method": method,
+            "path": scope.get("path", ""),
+            "handler": handler,
+            "status": status,
+            "duration_ms": round(elapsed * 1000, 2),
+        }
+        # The record made directly: logger.info() would walk the stack for the caller's file and
+        # line on every request, which an access line does not show.
+        record = logger.makeRecord(logger.name, logging.INFO, __file__, 0, "request", (), None)
+        record.fields = fields
+        logger.handle(record)
+
+
 class RequestContext:
     """Give every request an id (kept from X-Request-ID when sane), echo it, log and count it."""
 
@@ -88,8 +119,7 @@ class RequestContext:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        given = dict(scope.get("headers", [])).get(REQUEST_ID_HEADER, b"")
-        request_id = given.decode() if _VALID_ID.match(given) else uuid.uuid4().hex
+        request_id = request_id_of(scope)
         scope.setdefault("state", {})["request_id"] = request_id
         started = time.perf_counter()
         status = 500
@@ -105,23 +135,6 @@ class RequestContext:
         try:
             await self.app(scope, receive, send_with_id)
         finally:
-            elapsed = time.perf_counter() - started
             # The endpoint's function name: stable, low-cardinality, and known even for nested routers.
             handler = getattr(scope.get("endpoint"), "__name__", "unmatched")
-            method = scope.get("method", "")
-            REQUESTS.labels(method, handler, str(status)).inc()
-            LATENCY.labels(method, handler).observe(elapsed)
-            if logger.isEnabledFor(logging.INFO):
-                fields = {
-                    "request_id": request_id,
-                    "method": method,
-                    "path": scope.get("path", ""),
-                    "handler": handler,
-                    "status": status,
-                    "duration_ms": round(elapsed * 1000, 2),
-                }
-                # The record made directly: logger.info() would walk the stack for the caller's
-                # file and line on every request, which an access line does not show.
-                record = logger.makeRecord(logger.name, logging.INFO, __file__, 0, "request", (), None)
-                record.fields = fields
-                logger.handle(record)
+            record_request(scope, request_id=request_id, handler=handler, status=status, started=started)
