@@ -4,8 +4,10 @@ The statement is written with SQLAlchemy Core against the mapped tables, and its
 result columns go through SQLAlchemy's own type processing (JSON, UTC datetimes, SQLite's decimals),
 worked out once; what is skipped is the per-execution work of `Connection.execute` (compiled-cache
 lookup, execution context, result metadata), which measured as much again as the driver's own time.
-It still runs on the SQLAlchemy connection (`exec_driver_sql`): pool, events, transactions, and the
-wrapping of driver errors (a lost database is still recognised as an outage) stay SQLAlchemy's.
+It runs on the driver connection of a SQLAlchemy connection, in its transaction: the pool, the
+transactions and the SQLite writer's turn stay SQLAlchemy's, and a driver error is raised as
+SQLAlchemy raises it (a lost database is still recognised as an outage). Its statements do not pass
+through SQLAlchemy's cursor events.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from sqlalchemy import Connection, Dialect
+from sqlalchemy import Connection, Dialect, exc
 from sqlalchemy.sql import ClauseElement
 from sqlalchemy.sql.compiler import SQLCompiler
 
@@ -51,14 +53,13 @@ class Prepared:
 
     def execute(self, connection: Connection, values: Mapping[str, Any]) -> list[dict[str, Any]]:
         """Run it once; the rows it returns (if any) as dicts of processed column values."""
-        result = connection.exec_driver_sql(self.sql, self.parameters(values))
-        if not result.returns_rows:
+        rows, description = self._run(connection, self.parameters(values), many=False)
+        if description is None:
             return []
         if self._result is None:  # the driver's type of each column decides its processor (PostgreSQL)
-            described = result.cursor.description
             self._result = tuple(
-                column.type.dialect_impl(self._dialect).result_processor(self._dialect, description[1])
-                for column, description in zip(self._selected, described, strict=True)
+                column.type.dialect_impl(self._dialect).result_processor(self._dialect, described[1])
+                for column, described in zip(self._selected, description, strict=True)
             )
         processors = self._result
         return [
@@ -66,12 +67,44 @@ class Prepared:
                 name: value if process is None or value is None else process(value)
                 for name, process, value in zip(self.columns, processors, row, strict=True)
             }
-            for row in result.all()
+            for row in rows
         ]
 
     def execute_many(self, connection: Connection, rows: Sequence[Mapping[str, Any]]) -> None:
         """Run it once per row of values, as one executemany."""
-        connection.exec_driver_sql(self.sql, [self.parameters(row) for row in rows])
+        self._run(connection, [self.parameters(row) for row in rows], many=True)
+
+    def _run(self, connection: Connection, parameters: Any, *, many: bool) -> tuple[list[Any], Any]:
+        """Send the SQL on the connection's driver connection, in whatever transaction it is in.
+
+        A driver error is raised as SQLAlchemy's (`DBAPIError.instance`, as `Connection.execute`
+        would), and a lost connection is invalidated first, so an outage is still answered as one.
+        """
+        dialect = connection.dialect
+        driver_connection = connection.connection.dbapi_connection
+        assert driver_connection is not None
+        cursor = driver_connection.cursor()
+        try:
+            if many:
+                cursor.executemany(self.sql, parameters)
+            else:
+                cursor.execute(self.sql, parameters)
+            description = cursor.description
+            return (list(cursor.fetchall()) if description is not None else []), description
+        except dialect.loaded_dbapi.Error as error:
+            lost = dialect.is_disconnect(error, driver_connection, cursor)
+            if lost:
+                connection.invalidate(error)
+            raise exc.DBAPIError.instance(
+                self.sql,
+                parameters,
+                error,
+                dialect.loaded_dbapi.Error,
+                connection_invalidated=lost,
+                dialect=dialect,
+            ) from error
+        finally:
+            cursor.close()
 
 
 class PreparedCache:

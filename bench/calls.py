@@ -89,11 +89,9 @@ BY_STEP = bool(os.environ.get("TRIKECERT_BENCH_BY_STEP"))  # also count calls by
 
 def count(requests: int, send: Callable[[int], Any]) -> dict[str, float]:
     """Statements, commits, Python calls and in-process CPU ms per request of `send(n)`."""
-    from sqlalchemy import event
+    from sqlalchemy import Engine, event
 
-    from app.db import get_engine
-
-    engine = get_engine()
+    engine = Engine  # every engine: the app's and the peer's
     seen = {"statements": 0, "commits": 0}
 
     def statement(_connection: Any, _cursor: Any, sql: str, *_args: Any) -> None:
@@ -106,6 +104,16 @@ def count(requests: int, send: Callable[[int], Any]) -> dict[str, float]:
 
     event.listen(engine, "before_cursor_execute", statement)
     event.listen(engine, "commit", commit)
+    # The hot path's prepared statements go to the driver directly, past the cursor events.
+    from app.prepared import Prepared
+
+    run = Prepared._run
+
+    def counted_run(self: Prepared, connection: Any, parameters: Any, *, many: bool) -> Any:
+        statement(connection, None, self.sql)
+        return run(self, connection, parameters, many=many)
+
+    Prepared._run = counted_run  # type: ignore[method-assign]
     for n in range(20):  # warm-up: caches, pool, compiled statements
         send(n)
     seen.update(statements=0, commits=0)
@@ -119,6 +127,7 @@ def count(requests: int, send: Callable[[int], Any]) -> dict[str, float]:
     CALLS.counting = False
     event.remove(engine, "before_cursor_execute", statement)
     event.remove(engine, "commit", commit)
+    Prepared._run = run  # type: ignore[method-assign]
     return {
         "statements": seen["statements"] / requests / 2,
         "commits": seen["commits"] / requests / 2,
@@ -167,6 +176,17 @@ def main() -> None:
                 ("POST /api/v1/inspections", count(args.requests, post)),
                 ("POST + Idempotency-Key", count(args.requests, post_once)),
             ]
+        from peer import create_table, peer_app
+
+        os.environ["PEER_DATABASE_URL"] = url
+        create_table(url)
+        with TestClient(peer_app) as peer:
+
+            def peer_post(n: int) -> None:
+                answer = peer.post("/api/v1/inspections", json=body(n))
+                assert answer.status_code == 201, answer.text
+
+            rows.append(("peer POST (one row)", count(args.requests, peer_post)))
         print(f"{args.backend}, {args.requests} requests each, in-process (TestClient's own calls included)")
         print("| request | SQL statements | commits | Python calls |")
         print("| --- | --- | --- | --- |")
