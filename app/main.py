@@ -12,7 +12,7 @@ import app.models  # noqa: F401  (every table known to the mapper, whichever rou
 from app import __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
-from app.api.router import api_router
+from app.api.router import api_router, hot_router
 from app.certificates.public import public_router
 from app.config import get_settings
 from app.ops.docs import install_docs
@@ -59,7 +59,8 @@ def create_app() -> FastAPI:
     )
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
-    app.include_router(health_router)  # first: a probe is matched before the API's many routes
+    app.include_router(hot_router)  # first: a submission is matched before any other route
+    app.include_router(health_router)
     app.include_router(api_router)
     app.include_router(public_router)
     app.include_router(metrics_router)

@@ -42,6 +42,8 @@ from app.vehicles.schemas import RegistrationNumber
 # The body as parsed JSON: validated as InspectionIn in the handler, after the key is checked and counted.
 SubmissionBody = Annotated[Any, PlainValidator(as_sent, json_schema_input_type=InspectionIn), Body()]
 router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
+# The stations' hot path alone, so the app can match it before any other route (app/api/router.py).
+submission_router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
 
 
 def inspection_summary(inspection: Inspection) -> InspectionSummary:
@@ -56,7 +58,7 @@ def inspection_summary(inspection: Inspection) -> InspectionSummary:
     )
 
 
-@router.post(
+@submission_router.post(
     "",
     status_code=status.HTTP_201_CREATED,
     response_model=InspectionOut,
