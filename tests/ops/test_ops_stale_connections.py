@@ -23,7 +23,10 @@ def _terminate_app_connections(owner_engine: Engine, role: str) -> int:
         for pid in pids:
             admin.execute(text("SELECT pg_terminate_backend(:pid)"), {"pid": pid})
         deadline = time.monotonic() + 10
-        while admin.rollback() or admin.execute(find, {"role": role}).first() is not None:  # a fresh view
+        while True:
+            admin.rollback()  # pg_stat_activity is read afresh in each transaction
+            if admin.execute(find, {"role": role}).first() is None:
+                break
             assert time.monotonic() < deadline, "the server did not close the connections"
             time.sleep(0.05)
     return len(pids)
