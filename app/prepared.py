@@ -31,10 +31,21 @@ class Prepared:
         self._compiled = compiled
         self.sql = compiled.string
         self._order = compiled.positiontup  # None: named parameters
-        self._bind: dict[str, Processor] = {
-            name: bind.type.dialect_impl(dialect).bind_processor(dialect)
-            for name, bind in compiled.binds.items()
-        }
+        # Each parameter the SQL names, with its processor; the statement's own literals (a constant
+        # 1, say) are bound once, here.
+        names = compiled.construct_params(_every_value(compiled))
+        self._bind: dict[str, Processor] = {}
+        self._literals: dict[str, Any] = {}
+        for bind in compiled.binds.values():
+            name = compiled.bind_names[bind]
+            if name not in names:
+                continue
+            process = bind.type.dialect_impl(dialect).bind_processor(dialect)
+            if bind.required:
+                self._bind[name] = process
+            else:
+                value = bind.effective_value
+                self._literals[name] = value if process is None else process(value)
         self._dialect = dialect
         self._selected = tuple(getattr(statement, "exported_columns", ()))
         self.columns = tuple(column.name for column in self._selected)
@@ -42,11 +53,11 @@ class Prepared:
 
     def parameters(self, values: Mapping[str, Any]) -> dict[str, Any] | tuple[Any, ...]:
         """The driver's parameters for these values (and the statement's own literals), processed."""
-        bound = self._compiled.construct_params(dict(values))
         processed = {
-            name: value if (process := self._bind.get(name)) is None else process(value)
-            for name, value in bound.items()
+            name: values[name] if process is None else process(values[name])
+            for name, process in self._bind.items()
         }
+        processed.update(self._literals)
         if self._order is None:
             return processed
         return tuple(processed[name] for name in self._order)
@@ -120,3 +131,8 @@ class PreparedCache:
         if name not in self._by_dialect:
             self._by_dialect[name] = Prepared(self._build(), connection.dialect)
         return self._by_dialect[name]
+
+
+def _every_value(compiled: SQLCompiler) -> dict[str, Any]:
+    """A placeholder value for every parameter the statement takes, to list the names it binds."""
+    return {bind.key: None for bind in compiled.binds.values()}

@@ -53,8 +53,13 @@ class BodySizeLimit:
             await self.app(scope, receive, send)
             return
         declared = dict(scope.get("headers", [])).get(b"content-length")
-        if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
-            await self._refuse(send)
+        if declared is not None and declared.isdigit():
+            if int(declared) > self.max_bytes:
+                await self._refuse(send)
+                return
+            # The server reads exactly the declared length (and refuses a body that is also
+            # chunked): nothing more can arrive to count.
+            await self.app(scope, receive, send)
             return
         received = 0
         started = False

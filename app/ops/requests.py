@@ -31,10 +31,16 @@ LATENCY = Histogram(
 class JsonFormatter(logging.Formatter):
     """One JSON object per log line, with whatever `extra` fields the record carries."""
 
+    _second = -1
+    _stamp = ""
+
     def format(self, record: logging.LogRecord) -> str:
         """The record as a JSON line."""
+        second = int(record.created)
+        if second != self._second:  # the stamp is to the second: made once per second, not per line
+            self._second, self._stamp = second, self.formatTime(record, "%Y-%m-%dT%H:%M:%S%z")
         entry: dict[str, Any] = {
-            "time": self.formatTime(record, "%Y-%m-%dT%H:%M:%S%z"),
+            "time": self._stamp,
             "level": record.levelname.lower(),
             "logger": record.name,
             "message": record.getMessage(),
