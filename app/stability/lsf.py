@@ -81,11 +81,12 @@ def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules)
     measured = {m.occupants: m for m in data.measured_cases}
     cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "load_items")]
     occupant = Fraction(mass)
+    per_metre = occupant / wheelbase
     for index, seat in enumerate(data.seats):
         occupants = index + 1
         # Moments about the front contact point: an occupant at x adds m*x/WB to the rear axle.
         total += occupant
-        rear += occupant * Fraction(seat.x_m) / wheelbase
+        rear += per_metre * Fraction(seat.x_m)
         if occupants in measured:
             prefix = f"measured_cases[{data.measured_cases.index(measured[occupants])}].readings"
             weighed = average_readings(measured[occupants].readings, rules, prefix=prefix)
@@ -98,7 +99,7 @@ def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules)
 
 def _checked(case: LoadingCase, field: str) -> LoadingCase:
     """Refuse a loading case that would lift the front wheel or the rear wheels off the ground."""
-    if case.front_kg <= 0:
+    if case.total_kg <= case.rear_kg:  # front_kg <= 0, without computing it
         raise StabilityError(
             field,
             "front_wheel_lift",
