@@ -21,6 +21,7 @@ from sqlalchemy import Connection, Table, bindparam, delete, func, insert, selec
 from app.db import begin_connection_write, get_engine, utcnow
 from app.errors import Conflict, InvalidInput
 from app.idempotency.models import IdempotencyKey
+from app.prepared import PreparedCache
 
 logger = logging.getLogger("trikecert.idempotency")
 KEY_FIELD = "Idempotency-Key"
@@ -78,7 +79,11 @@ def try_lock(connection: Connection, claim: Claim) -> bool:
     """Hold (station, key) for this transaction: False when another transaction holds it (PostgreSQL only)."""
     if connection.dialect.name != "postgresql":
         return True
-    return bool(connection.execute(select(func.pg_try_advisory_xact_lock(_lock_id(claim)))).scalar())
+    [row] = _TRY_LOCK(connection).execute(connection, {"lock": _lock_id(claim)})
+    return bool(row["locked"])
+
+
+_TRY_LOCK = PreparedCache(lambda: select(func.pg_try_advisory_xact_lock(bindparam("lock")).label("locked")))
 
 
 @dataclass(frozen=True)
@@ -94,18 +99,40 @@ class StoredAnswer:
 
 _KEYS = cast(Table, IdempotencyKey.__table__)
 _THIS_KEY = (_KEYS.c.station_id == bindparam("station_id")) & (_KEYS.c.key == bindparam("key"))
-_STORED = select(
-    _KEYS.c.operation, _KEYS.c.request_hash, _KEYS.c.status_code, _KEYS.c.response_body, _KEYS.c.created_at
-).where(_THIS_KEY)
+_STORED = PreparedCache(
+    lambda: select(
+        _KEYS.c.operation,
+        _KEYS.c.request_hash,
+        _KEYS.c.status_code,
+        _KEYS.c.response_body,
+        _KEYS.c.created_at,
+    ).where(_THIS_KEY)
+)
+_REMEMBER = PreparedCache(
+    lambda: insert(_KEYS).values(
+        {
+            name: bindparam(name, type_=_KEYS.c[name].type)
+            for name in (
+                "station_id",
+                "key",
+                "operation",
+                "request_hash",
+                "status_code",
+                "response_body",
+                "created_at",
+            )
+        }
+    )
+)
 
 
 def stored_answer(connection: Connection, claim: Claim, *, retention: timedelta) -> StoredAnswer | None:
     """The answer stored under this station's key, or None; a key older than `retention` is forgotten."""
     where = {"station_id": claim.station_id, "key": claim.key}
-    row = connection.execute(_STORED, where).one_or_none()
-    if row is None:
+    rows = _STORED(connection).execute(connection, where)
+    if not rows:
         return None
-    stored = StoredAnswer(*row)
+    stored = StoredAnswer(**rows[0])
     if stored.created_at < utcnow() - retention:
         connection.execute(delete(_KEYS).where(_THIS_KEY), where)
         return None
@@ -120,8 +147,8 @@ def check_same_request(claim: Claim, stored: StoredAnswer) -> None:
 
 def remember(connection: Connection, claim: Claim, *, status_code: int, body: bytes) -> None:
     """Store the key and its answer in the connection's transaction (the caller's commit stores both)."""
-    connection.execute(
-        insert(_KEYS),
+    _REMEMBER(connection).execute(
+        connection,
         {
             "station_id": claim.station_id,
             "key": claim.key,
