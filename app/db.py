@@ -94,18 +94,6 @@ def autocommit(connection: Connection) -> Connection:
     return connection
 
 
-def begin_connection_transaction(connection: Connection) -> None:
-    """PostgreSQL: leave autocommit and begin, so what follows (an advisory lock, the writes) is one
-    transaction until the commit. SQLite: nothing (its write transaction begins at the first write,
-    `begin_connection_write`)."""
-    if connection.dialect.name != "postgresql":
-        return
-    if connection.in_transaction():
-        connection.commit()  # autocommit's empty transaction
-    connection.execution_options(isolation_level=connection.default_isolation_level)
-    connection.begin()
-
-
 def begin_connection_write(connection: Connection) -> None:
     """SQLite: start the write transaction (`BEGIN IMMEDIATE` behind the writer lock) unless this
     connection is in one already; reads done so far are committed first, keeping them out of the

@@ -49,6 +49,9 @@ class Prepared:
         self._dialect = dialect
         self._selected = tuple(getattr(statement, "exported_columns", ()))
         self.columns = tuple(column.name for column in self._selected)
+        repeated = {name for name in self.columns if self.columns.count(name) > 1}
+        if repeated:  # rows are dicts by column name: one would hide the other
+            raise ValueError(f"the statement selects {sorted(repeated)} more than once; label them apart")
         self._result: tuple[Processor, ...] | None = None  # from the first result's column types
 
     def parameters(self, values: Mapping[str, Any]) -> dict[str, Any] | tuple[Any, ...]:
@@ -119,9 +122,10 @@ class Prepared:
 
 
 class PreparedCache:
-    """A statement's `Prepared` for each dialect it meets, made on first use."""
+    """A statement's `Prepared` for each dialect it meets, made on first use (`build` is given the
+    dialect's name)."""
 
-    def __init__(self, build: Callable[[], ClauseElement]) -> None:
+    def __init__(self, build: Callable[[str], ClauseElement]) -> None:
         self._build = build
         self._by_dialect: dict[str, Prepared] = {}
 
@@ -129,7 +133,7 @@ class PreparedCache:
         """The statement prepared for this connection's dialect."""
         name = connection.dialect.name
         if name not in self._by_dialect:
-            self._by_dialect[name] = Prepared(self._build(), connection.dialect)
+            self._by_dialect[name] = Prepared(self._build(name), connection.dialect)
         return self._by_dialect[name]
 
 

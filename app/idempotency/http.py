@@ -12,16 +12,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from datetime import timedelta
-from typing import Annotated, Any, Protocol
+from typing import Annotated, Any
 
 from fastapi import Header
 from fastapi.responses import Response
-from sqlalchemy import Connection
 from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
 
 from app.api.errors import ErrorOut
 from app.config import get_settings
-from app.db import begin_connection_transaction
 from app.errors import ServiceError
 from app.idempotency.service import (
     Claim,
@@ -57,34 +56,6 @@ IdempotencyKeyHeader = Annotated[
 Remember = Callable[[bytes], None]
 
 
-class Transaction(Protocol):
-    """Where the key is claimed and stored: a Session, or a Core connection (`OwnTransaction`)."""
-
-    def connection(self) -> Connection:
-        """The connection whose transaction holds the claim."""
-        ...
-
-    def rollback(self) -> None:
-        """End the transaction (releasing the claim) if it is still open."""
-        ...
-
-
-class OwnTransaction:
-    """A Core connection as a Transaction: it leaves autocommit, so a claim lasts until the commit."""
-
-    def __init__(self, connection: Connection) -> None:
-        begin_connection_transaction(connection)
-        self._connection = connection
-
-    def connection(self) -> Connection:
-        """The connection itself."""
-        return self._connection
-
-    def rollback(self) -> None:
-        """Roll back whatever is still open."""
-        self._connection.rollback()
-
-
 def idempotent_responses(status_code: int) -> dict[int | str, dict[str, Any]]:
     """OpenAPI entries: the replay header on the success status, and the 409 of a key still in flight."""
     return {
@@ -111,7 +82,8 @@ def idempotent_responses(status_code: int) -> dict[int | str, dict[str, Any]]:
     }
 
 
-def _key(header: str) -> str:
+def key_of(header: str) -> str:
+    """The key in an Idempotency-Key header (a structured-field string loses its quotes)."""
     return header[1:-1] if len(header) > 1 and header.startswith('"') and header.endswith('"') else header
 
 
@@ -125,18 +97,24 @@ def _json(status_code: int, body: bytes, *, replayed: bool = False) -> Response:
     return Response(content=body, status_code=status_code, media_type="application/json", headers=headers)
 
 
-def _replay(claim: Claim, stored: StoredAnswer) -> Response:
+def replay(claim: Claim, stored: StoredAnswer) -> Response:
+    """The stored answer again, marked as replayed; KeyReused (422) for a different request."""
     check_same_request(claim, stored)
     return _json(stored.status_code, stored.response_body.encode(), replayed=True)
 
 
+def retention() -> timedelta:
+    """How long a key and its answer are kept."""
+    return timedelta(hours=get_settings().idempotency_key_hours)
+
+
 def claim_of(header: str, *, station_id: int, operation: str, payload: Any) -> Claim:
     """The station's use of the key in the header for this operation and validated body."""
-    return Claim(station_id, _key(header), operation, request_hash(operation, payload))
+    return Claim(station_id, key_of(header), operation, request_hash(operation, payload))
 
 
 def respond_once(
-    transaction: Transaction,
+    session: Session,
     *,
     claim: Claim | None,
     status_code: int,
@@ -149,28 +127,28 @@ def respond_once(
     """
     if claim is None:
         return _json(status_code, perform(lambda _body: None))
-    retention = timedelta(hours=get_settings().idempotency_key_hours)
+    kept_for = retention()
     try:
-        if not try_lock(transaction.connection(), claim):
+        if not try_lock(session.connection(), claim):
             raise KeyInFlight()
-        stored = stored_answer(transaction.connection(), claim, retention=retention)
+        stored = stored_answer(session.connection(), claim, retention=kept_for)
         if stored is not None:
-            return _replay(claim, stored)
+            return replay(claim, stored)
 
         def keep(body: bytes) -> None:
-            remember(transaction.connection(), claim, status_code=status_code, body=body)
+            remember(session.connection(), claim, status_code=status_code, body=body)
 
         try:
             body = perform(keep)
         except (ServiceError, IntegrityError):
             # A concurrent request with the same key may have committed first (SQLite waits for the
             # writer, then finds the key taken): answer with its stored response.
-            transaction.rollback()
-            stored = stored_answer(transaction.connection(), claim, retention=retention)
+            session.rollback()
+            stored = stored_answer(session.connection(), claim, retention=kept_for)
             if stored is None:
                 raise
-            return _replay(claim, stored)
+            return replay(claim, stored)
     finally:
-        transaction.rollback()  # ends the transaction, releasing the advisory lock; a commit already happened
-    maybe_prune(retention=retention)
+        session.rollback()  # ends the transaction, releasing the advisory lock; a commit already happened
+    maybe_prune(retention=kept_for)
     return _json(status_code, body)

@@ -70,7 +70,8 @@ class KeyReused(InvalidInput):
         )
 
 
-def _lock_id(claim: Claim) -> int:
+def lock_id(claim: Claim) -> int:
+    """The advisory lock of a station's key (PostgreSQL)."""
     digest = hashlib.sha256(f"idempotency-key:{claim.station_id}:{claim.key}".encode()).digest()
     return int.from_bytes(digest[:8], "big", signed=True)
 
@@ -79,11 +80,13 @@ def try_lock(connection: Connection, claim: Claim) -> bool:
     """Hold (station, key) for this transaction: False when another transaction holds it (PostgreSQL only)."""
     if connection.dialect.name != "postgresql":
         return True
-    [row] = _TRY_LOCK(connection).execute(connection, {"lock": _lock_id(claim)})
+    [row] = _TRY_LOCK(connection).execute(connection, {"lock": lock_id(claim)})
     return bool(row["locked"])
 
 
-_TRY_LOCK = PreparedCache(lambda: select(func.pg_try_advisory_xact_lock(bindparam("lock")).label("locked")))
+_TRY_LOCK = PreparedCache(
+    lambda _dialect: select(func.pg_try_advisory_xact_lock(bindparam("lock")).label("locked"))
+)
 
 
 @dataclass(frozen=True)
@@ -97,19 +100,13 @@ class StoredAnswer:
     created_at: datetime
 
 
-_KEYS = cast(Table, IdempotencyKey.__table__)
+KEYS_TABLE = _KEYS = cast(Table, IdempotencyKey.__table__)
 _THIS_KEY = (_KEYS.c.station_id == bindparam("station_id")) & (_KEYS.c.key == bindparam("key"))
-_STORED = PreparedCache(
-    lambda: select(
-        _KEYS.c.operation,
-        _KEYS.c.request_hash,
-        _KEYS.c.status_code,
-        _KEYS.c.response_body,
-        _KEYS.c.created_at,
-    ).where(_THIS_KEY)
-)
+# A stored answer's columns, as StoredAnswer names them.
+ANSWER_COLUMNS = ("operation", "request_hash", "status_code", "response_body", "created_at")
+_STORED = PreparedCache(lambda _dialect: select(*[_KEYS.c[name] for name in ANSWER_COLUMNS]).where(_THIS_KEY))
 _REMEMBER = PreparedCache(
-    lambda: insert(_KEYS).values(
+    lambda _dialect: insert(_KEYS).values(
         {
             name: bindparam(name, type_=_KEYS.c[name].type)
             for name in (
@@ -132,11 +129,17 @@ def stored_answer(connection: Connection, claim: Claim, *, retention: timedelta)
     rows = _STORED(connection).execute(connection, where)
     if not rows:
         return None
-    stored = StoredAnswer(**rows[0])
-    if stored.created_at < utcnow() - retention:
-        connection.execute(delete(_KEYS).where(_THIS_KEY), where)
-        return None
-    return stored
+    return unless_expired(connection, claim, StoredAnswer(**rows[0]), retention=retention)
+
+
+def unless_expired(
+    connection: Connection, claim: Claim, stored: StoredAnswer, *, retention: timedelta
+) -> StoredAnswer | None:
+    """The stored answer, or None (and the key forgotten) when it is older than `retention`."""
+    if stored.created_at >= utcnow() - retention:
+        return stored
+    connection.execute(delete(_KEYS).where(_THIS_KEY), {"station_id": claim.station_id, "key": claim.key})
+    return None
 
 
 def check_same_request(claim: Claim, stored: StoredAnswer) -> None:

@@ -25,6 +25,8 @@ from sqlalchemy import Connection, Table, bindparam, func, literal, select, true
 from sqlalchemy.dialects import postgresql, sqlite
 
 from app.db import begin_connection_write
+from app.idempotency.service import ANSWER_COLUMNS, StoredAnswer
+from app.idempotency.service import KEYS_TABLE as _KEYS
 from app.prepared import PreparedCache
 from app.stability import Seat
 from app.stations.models import Station, StationRateWindow
@@ -52,6 +54,8 @@ class OnFile:
     station: StationOnFile | None  # None: no active station holds the key
     counted: Counted | None  # None: not counted (no station, or no rate limit)
     vehicle: VehicleOnFile | None  # None: no vehicle has the registration
+    stored: StoredAnswer | None = None  # the answer already stored under the Idempotency-Key
+    new_inspection_id: int | None = None  # PostgreSQL: an id drawn for the inspection, should it be stored
 
 
 _STATION = cast(Table, Station.__table__)
@@ -70,23 +74,40 @@ _STATION_COLUMNS = (
 
 
 def look_up(
-    connection: Connection, *, key_hash: str, registration_key: str | None, window_start: int | None
+    connection: Connection,
+    *,
+    key_hash: str,
+    registration_key: str | None,
+    window_start: int | None,
+    idempotency_key: str | None,
 ) -> OnFile:
-    """The station holding the key (counted in the window opened at `window_start`, unless None) and
-    the vehicle with this lookup key (None: matches nothing)."""
-    parameters = {"key_hash": key_hash, "registration_key": registration_key, "window_start": window_start}
-    counted_here = window_start is not None and connection.dialect.name == "postgresql"
+    """The station holding the key (counted in the window opened at `window_start`, unless None),
+    the vehicle with this lookup key and the answer stored under the station's Idempotency-Key
+    (None: match nothing)."""
+    parameters = {
+        "key_hash": key_hash,
+        "registration_key": registration_key,
+        "window_start": window_start,
+        "idempotency_key": idempotency_key,
+    }
+    on_postgresql = connection.dialect.name == "postgresql"
+    counted_here = window_start is not None and on_postgresql
     statement = _COUNTED_HERE if counted_here else _NOT_COUNTED
     rows = statement(connection).execute(connection, parameters)
     if not rows:
         return OnFile(None, None, None)
-    station = StationOnFile(**{name: rows[0][f"station_{name}"] for name in _STATION_COLUMNS})
+    first = rows[0]
+    station = StationOnFile(**{name: first[f"station_{name}"] for name in _STATION_COLUMNS})
     counted = None
     if counted_here:
-        counted = Counted(rows[0]["request_count"], rows[0]["window_start"])
+        counted = Counted(first["request_count"], first["window_start"])
     elif window_start is not None:
         counted = _count_apart(connection, station.id, window_start)
-    return OnFile(station, counted, _vehicle(rows))
+    stored = None
+    if first["stored_operation"] is not None:
+        stored = StoredAnswer(**{name: first[f"stored_{name}"] for name in ANSWER_COLUMNS})
+    new_id = first["new_inspection_id"] if on_postgresql else None
+    return OnFile(station, counted, _vehicle(rows), stored, new_id)
 
 
 def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
@@ -117,7 +138,7 @@ def _count_apart(connection: Connection, station_id: int, window_start: int) -> 
     return Counted(row["request_count"], row["window_start"])
 
 
-def _statement(counted_here: bool) -> Any:
+def _statement(*, counted_here: bool, on_postgresql: bool) -> Any:
     """The look-up (built once per shape): one row per seat; with `counted_here`, the count too."""
     station = (
         select(*[_STATION.c[name].label(f"station_{name}") for name in _STATION_COLUMNS])
@@ -148,7 +169,27 @@ def _statement(counted_here: bool) -> Any:
         .where(_VEHICLE.c.registration_key == bindparam("registration_key"))
         .subquery("vehicle")
     )
-    query = select(station, vehicle).select_from(station).outerjoin(vehicle, true())
+    stored = (
+        select(
+            *[_KEYS.c[name].label(f"stored_{name}") for name in ANSWER_COLUMNS],
+            _KEYS.c.station_id.label("stored_station_id"),
+        )
+        .where(_KEYS.c.key == bindparam("idempotency_key"))
+        .subquery("stored")
+    )
+    # PostgreSQL draws the new inspection's id here, so its answer (kept with an Idempotency-Key)
+    # is complete before the one statement that stores both; an id left unused is a gap, as after
+    # any refused insert.
+    # One row per seat: the id is drawn once, in a CTE of its own.
+    draw = func.nextval(func.pg_get_serial_sequence("inspection", "id")).label("new_inspection_id")
+    new_id = select(draw).cte("new_id")
+    columns: list[Any] = [station, vehicle, stored, *([new_id.c.new_inspection_id] if on_postgresql else [])]
+    query = (
+        select(*columns)
+        .select_from(station)
+        .outerjoin(vehicle, true())
+        .outerjoin(stored, stored.c.stored_station_id == station.c.station_id)
+    )
     if counted_here:
         counted = on_conflict_count(
             postgresql.insert(StationRateWindow).from_select(
@@ -162,16 +203,19 @@ def _statement(counted_here: bool) -> Any:
             _RATE.c.station_id,
         ).cte("request_counted")
         query = (
-            select(station, counted.c.request_count, counted.c.window_start, vehicle)
+            select(*columns, counted.c.request_count, counted.c.window_start)
             .select_from(station)
             .join(counted, counted.c.station_id == station.c.station_id)
             .outerjoin(vehicle, true())
+            .outerjoin(stored, stored.c.stored_station_id == station.c.station_id)
         )
+    if on_postgresql:
+        query = query.join(new_id, true())
     return query.order_by(vehicle.c.seat_position)
 
 
 _COUNT_APART = PreparedCache(
-    lambda: on_conflict_count(
+    lambda _dialect: on_conflict_count(
         sqlite.insert(StationRateWindow).values(
             station_id=bindparam("station_id"),
             window_start=bindparam("window_start"),
@@ -179,5 +223,7 @@ _COUNT_APART = PreparedCache(
         )
     )
 )
-_COUNTED_HERE = PreparedCache(lambda: _statement(counted_here=True))
-_NOT_COUNTED = PreparedCache(lambda: _statement(counted_here=False))
+_COUNTED_HERE = PreparedCache(lambda _dialect: _statement(counted_here=True, on_postgresql=True))
+_NOT_COUNTED = PreparedCache(
+    lambda dialect: _statement(counted_here=False, on_postgresql=dialect == "postgresql")
+)

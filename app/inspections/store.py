@@ -20,11 +20,13 @@ cases each one executemany) in the caller's transaction.
 from __future__ import annotations
 
 import json
-from dataclasses import fields
+from collections.abc import Callable
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 from sqlalchemy import JSON, Connection, Table, Text, bindparam, cast, column, func, insert, select, true
 
+from app.idempotency.service import KEYS_TABLE, Claim, KeyInFlight, lock_id, remember
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.inspections.record import INSPECTION_COLUMNS, CaseRow, InspectionRecord, ReadingRow
 from app.prepared import PreparedCache
@@ -36,16 +38,36 @@ _READING_FIELDS = tuple(f.name for f in fields(ReadingRow))
 _CASE_FIELDS = tuple(f.name for f in fields(CaseRow))
 
 
-def store_record(connection: Connection, record: InspectionRecord) -> int:
-    """Insert the inspection, its readings and its loading cases; the new inspection's id.
+@dataclass(frozen=True)
+class KeptAnswer:
+    """An Idempotency-Key to store with the inspection, and how to make its answer from the record."""
 
-    In the connection's transaction if it has one; a PostgreSQL connection in autocommit makes it
-    one transaction of its own (all three tables or none).
+    claim: Claim
+    status_code: int
+    answer: Callable[[InspectionRecord], bytes]
+
+
+def store_record(connection: Connection, record: InspectionRecord, *, keep: KeptAnswer | None = None) -> int:
+    """Insert the inspection, its readings and its loading cases (and the answer kept under an
+    Idempotency-Key) in the connection's transaction; the inspection's id.
+
+    PostgreSQL inserts `record.id`, drawn beforehand (`draw_inspection_id`, or the submission's
+    look-up), so the kept answer is complete before the one statement; a connection in autocommit
+    makes that statement a transaction of its own. With a key the statement first takes the key's
+    lock: KeyInFlight (and nothing stored) when another request holds it. A key already stored
+    raises IntegrityError, and nothing is stored. SQLite learns the id from the insert.
     """
     columns = record.columns()
     if connection.dialect.name == "postgresql":
-        rows = {"readings": _json_rows(record.readings), "cases": _json_rows(record.cases)}
-        return int(_ONE_STATEMENT(connection).execute(connection, {**columns, **rows})[0]["id"])
+        rows = {"id": record.id, "readings": _json_rows(record.readings), "cases": _json_rows(record.cases)}
+        if keep is None:
+            _ONE_STATEMENT(connection).execute(connection, {**columns, **rows})
+            return record.id
+        kept = _kept(keep, record)
+        [row] = _ONE_KEYED_STATEMENT(connection).execute(connection, {**columns, **rows, **kept})
+        if not row["held"]:
+            raise KeyInFlight()
+        return record.id
     inspection_id = int(_INSERT_INSPECTION(connection).execute(connection, columns)[0]["id"])
     _INSERT_READING(connection).execute_many(
         connection, [{**vars(row), "inspection_id": inspection_id} for row in record.readings]
@@ -53,7 +75,37 @@ def store_record(connection: Connection, record: InspectionRecord) -> int:
     _INSERT_CASE(connection).execute_many(
         connection, [{**vars(row), "inspection_id": inspection_id} for row in record.cases]
     )
+    if keep is not None:
+        kept = _kept(keep, replace(record, id=inspection_id))
+        remember(
+            connection, keep.claim, status_code=keep.status_code, body=kept["key_response_body"].encode()
+        )
     return inspection_id
+
+
+def draw_inspection_id(connection: Connection) -> int:
+    """PostgreSQL: the next inspection id, for `store_record` (SQLite: 0, its insert makes one)."""
+    if connection.dialect.name != "postgresql":
+        return 0
+    return int(_DRAW_ID(connection).execute(connection, {})[0]["id"])
+
+
+_DRAW_ID = PreparedCache(
+    lambda _dialect: select(func.nextval(func.pg_get_serial_sequence("inspection", "id")).label("id"))
+)
+
+
+def _kept(keep: KeptAnswer, record: InspectionRecord) -> dict[str, Any]:
+    """The key's row as the keyed statement's parameters (its station and time are the record's)."""
+    claim = keep.claim
+    return {
+        "lock": lock_id(claim),
+        "key_key": claim.key,
+        "key_operation": claim.operation,
+        "key_request_hash": claim.request_hash,
+        "key_status_code": keep.status_code,
+        "key_response_body": keep.answer(record).decode(),
+    }
 
 
 def _values(table: Table, names: tuple[str, ...]) -> dict[str, Any]:
@@ -62,12 +114,16 @@ def _values(table: Table, names: tuple[str, ...]) -> dict[str, Any]:
 
 
 _INSERT_INSPECTION = PreparedCache(
-    lambda: insert(_INSPECTION).values(_values(_INSPECTION, INSPECTION_COLUMNS)).returning(_INSPECTION.c.id)
+    lambda _dialect: (
+        insert(_INSPECTION).values(_values(_INSPECTION, INSPECTION_COLUMNS)).returning(_INSPECTION.c.id)
+    )
 )
 _INSERT_READING = PreparedCache(
-    lambda: insert(_READING).values(_values(_READING, ("inspection_id", *_READING_FIELDS)))
+    lambda _dialect: insert(_READING).values(_values(_READING, ("inspection_id", *_READING_FIELDS)))
 )
-_INSERT_CASE = PreparedCache(lambda: insert(_CASE).values(_values(_CASE, ("inspection_id", *_CASE_FIELDS))))
+_INSERT_CASE = PreparedCache(
+    lambda _dialect: insert(_CASE).values(_values(_CASE, ("inspection_id", *_CASE_FIELDS)))
+)
 
 
 def _json_rows(rows: tuple[ReadingRow, ...] | tuple[CaseRow, ...]) -> str:
@@ -86,11 +142,16 @@ def _rows_of(table: Table, parameter: str, names: tuple[str, ...]) -> Any:
     )
 
 
-def _one_statement() -> Any:
-    """PostgreSQL: the inspection, its readings and its cases in one statement."""
+def _one_statement(*, keyed: bool) -> Any:
+    """PostgreSQL: the inspection (its id given), its readings and its cases in one statement; keyed,
+    all of it only once the key's lock is held, with the key's row, returning whether it was."""
+    values = select(*_values(_INSPECTION, ("id", *INSPECTION_COLUMNS)).values())
+    claim = select(func.pg_try_advisory_xact_lock(bindparam("lock")).label("held")).cte("claim")
+    if keyed:
+        values = values.select_from(claim).where(claim.c.held)
     inspection = (
         insert(_INSPECTION)
-        .values(_values(_INSPECTION, INSPECTION_COLUMNS))
+        .from_select(["id", *INSPECTION_COLUMNS], values)
         .returning(_INSPECTION.c.id)
         .cte("new_inspection")
     )
@@ -108,7 +169,22 @@ def _one_statement() -> Any:
             inspection, cases, true()
         ),
     )
-    return select(inspection.c.id).add_cte(insert_readings.cte("new_readings"), insert_cases.cte("new_cases"))
+    ctes = [insert_readings.cte("new_readings"), insert_cases.cte("new_cases")]
+    if not keyed:
+        return select(inspection.c.id).add_cte(*ctes)
+    key_columns = {
+        "station_id": bindparam("station_id", type_=KEYS_TABLE.c.station_id.type),
+        "created_at": bindparam("created_at", type_=KEYS_TABLE.c.created_at.type),
+        **{
+            name: bindparam(f"key_{name}", type_=KEYS_TABLE.c[name].type)
+            for name in ("key", "operation", "request_hash", "status_code", "response_body")
+        },
+    }
+    insert_key = insert(KEYS_TABLE).from_select(
+        list(key_columns), select(*key_columns.values()).select_from(inspection)
+    )
+    return select(claim.c.held).add_cte(*ctes, insert_key.cte("new_key"))
 
 
-_ONE_STATEMENT = PreparedCache(_one_statement)
+_ONE_STATEMENT = PreparedCache(lambda _dialect: _one_statement(keyed=False))
+_ONE_KEYED_STATEMENT = PreparedCache(lambda _dialect: _one_statement(keyed=True))

@@ -5,11 +5,15 @@ The steps of the rule, in order, on one pooled connection:
 1. look up, in one round trip: the station holding the key (401 if none), its request counted
    against the rate limit (429 beyond it), and the vehicle with its seats and figures; only then is
    the body validated (422 naming the field), so every signed request counts;
-2. with an Idempotency-Key, claim the key: a retry gets the first answer replayed;
+2. with an Idempotency-Key already answered (read in step 1): that answer, replayed;
 3. the vehicle must be registered (404); decide with the pure core: the scale checked, every loading
    case assessed exactly, the estimates' inputs checked, the record rounded once (422 naming the
    field);
-4. store the record (one statement on PostgreSQL, a transaction of its own) and the key's answer;
+4. store the record and the answer kept under the key: one statement on PostgreSQL, a transaction
+   of its own (the inspection's id was drawn in step 1, so the answer is complete beforehand; the
+   key's lock is taken in the same statement: 409 if another request holds it), a transaction
+   behind the writer's turn on SQLite; a key stored meanwhile by a concurrent request gets its
+   answer replayed;
 5. answer with the record just stored, in the same words a later GET gives.
 """
 
@@ -21,17 +25,20 @@ from typing import Any
 
 from fastapi import status
 from fastapi.responses import Response
+from sqlalchemy.exc import IntegrityError
 
 from app.api.validation import validated_body
 from app.config import get_settings
 from app.db import autocommit, begin_connection_write, get_engine
-from app.idempotency.http import OwnTransaction, Remember, claim_of, created, respond_once
+from app.idempotency.http import claim_of, created, key_of, replay, retention
+from app.idempotency.service import maybe_prune, stored_answer, unless_expired
 from app.inspections.answer import inspection_answer
 from app.inspections.lookup import OnFile, look_up
+from app.inspections.record import InspectionRecord
 from app.inspections.requests import inspection_request
 from app.inspections.schemas import InspectionIn
 from app.inspections.service import decide
-from app.inspections.store import store_record
+from app.inspections.store import KeptAnswer, store_record
 from app.stations.deps import unknown_key
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import RateLimit, check_count, window_start
@@ -56,39 +63,55 @@ def submit_inspection(document: Any, *, station_key: str, idempotency_key: str |
             key_hash=hash_key(station_key),
             registration_key=_registration_key(document),
             window_start=window_start(limit, now) if limit.limit > 0 else None,
+            idempotency_key=key_of(idempotency_key) if idempotency_key else None,
         )
         station = _authenticated(on_file)
         if on_file.counted is not None:
             check_count(limit, on_file.counted.count, on_file.counted.window_start, now)
         body = validated_body(document, InspectionIn)
 
-        def decide_and_store(remember: Remember) -> bytes:
-            decided = decide(
-                inspection_request(body),
-                vehicle=_registered(on_file, body.registration_number),
-                station=station,
-                rules=settings.rules(),
-                scale_rules=configured_scale_rules(),
-            )
-            begin_connection_write(connection)  # SQLite; PostgreSQL writes in one statement
-            record = replace(decided.record, id=store_record(connection, decided.record))
-            answer = inspection_answer(record, decided.estimates).model_dump_json().encode()
-            remember(answer)
-            connection.commit()
-            return answer
+        claim = None
+        if idempotency_key is not None:
+            payload = body.model_dump(mode="json")
+            claim = claim_of(idempotency_key, station_id=station.id, operation=OPERATION, payload=payload)
+            if on_file.stored is not None:
+                stored = unless_expired(connection, claim, on_file.stored, retention=retention())
+                if stored is not None:
+                    return replay(claim, stored)
 
-        if idempotency_key is None:
-            return created(decide_and_store(lambda _answer: None))
-        claim = claim_of(
-            idempotency_key, station_id=station.id, operation=OPERATION, payload=body.model_dump(mode="json")
+        decided = decide(
+            inspection_request(body),
+            vehicle=_registered(on_file, body.registration_number),
+            station=station,
+            rules=settings.rules(),
+            scale_rules=configured_scale_rules(),
         )
-        # The claim holds until the commit: the connection leaves autocommit for one transaction.
-        return respond_once(
-            OwnTransaction(connection),
-            claim=claim,
-            status_code=status.HTTP_201_CREATED,
-            perform=decide_and_store,
-        )
+        answers: list[bytes] = []
+
+        def answer(record: InspectionRecord) -> bytes:
+            """The answer to this submission, made once (kept with the key, and sent)."""
+            if not answers:
+                answers.append(inspection_answer(record, decided.estimates).model_dump_json().encode())
+            return answers[0]
+
+        record = replace(decided.record, id=on_file.new_inspection_id or 0)
+        keep = None if claim is None else KeptAnswer(claim, status.HTTP_201_CREATED, answer)
+        try:
+            begin_connection_write(connection)  # SQLite; PostgreSQL writes in one statement
+            inspection_id = store_record(connection, record, keep=keep)
+            connection.commit()
+        except IntegrityError:
+            connection.rollback()
+            if claim is None:
+                raise
+            # A request with the same key stored first (SQLite waited for its writer's turn): its answer.
+            stored = stored_answer(connection, claim, retention=retention())
+            if stored is None:
+                raise
+            return replay(claim, stored)
+        if claim is not None:
+            maybe_prune(retention=retention())
+        return created(answer(replace(record, id=inspection_id)))
 
 
 def _registration_key(document: Any) -> str | None:

@@ -4,19 +4,20 @@ a success is kept as the answer, in the same transaction as what it created; old
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from datetime import timedelta
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
-from sqlalchemy import Connection, Engine, func, select, update
+from sqlalchemy import Engine, func, select, update
 from sqlalchemy.orm import Session
 from station_server import count_inspections, seed_study_vehicle
 
 from app.cli import main as trikecert
 from app.db import utcnow
 from app.idempotency.models import IdempotencyKey
-from app.idempotency.service import Claim, _lock_id
+from app.idempotency.service import Claim, lock_id
 from app.inspections.models import LoadingCaseRow, Reading
 from app.stations.models import Station
 from app.stations.service import create_station
@@ -159,33 +160,42 @@ def test_a_refusal_is_not_kept_as_the_answer(study: TestClient, session: Session
 
 
 @pytest.fixture
-def crash_at_commit(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    """Make the commit that would store an idempotency key fail, as a power cut would; note how many
-    inspections the transaction held at that moment (its own, not yet committed)."""
-    held: list[int] = []
-    real_commit = Connection.commit
+def key_not_storable(owner_engine: Engine, session: Session) -> Iterator[None]:
+    """Make the database fail the write of any idempotency key, as a power cut in the middle of the
+    write would: a trigger (made by the tables' owner) that raises."""
+    if owner_engine.dialect.name == "postgresql":
+        make = [
+            "CREATE FUNCTION test_power_cut() RETURNS trigger AS $$ "
+            "BEGIN RAISE EXCEPTION 'power cut while storing the key'; END $$ LANGUAGE plpgsql",
+            "CREATE TRIGGER test_power_cut BEFORE INSERT ON idempotency_key "
+            "FOR EACH ROW EXECUTE FUNCTION test_power_cut()",
+        ]
+        drop = ["DROP TRIGGER test_power_cut ON idempotency_key", "DROP FUNCTION test_power_cut()"]
+    else:
+        make = [
+            "CREATE TRIGGER test_power_cut BEFORE INSERT ON idempotency_key "
+            "BEGIN SELECT RAISE(ABORT, 'power cut while storing the key'); END"
+        ]
+        drop = ["DROP TRIGGER test_power_cut"]
+    with owner_engine.begin() as connection:
+        for statement in make:
+            connection.exec_driver_sql(statement)
+    yield
+    session.rollback()  # the test's reads hold the table until their transaction ends
+    with owner_engine.begin() as connection:
+        for statement in drop:
+            connection.exec_driver_sql(statement)
 
-    def commit(self: Connection) -> None:
-        keys = self.exec_driver_sql("SELECT count(*) FROM idempotency_key").scalar()
-        if keys:
-            held.append(int(self.exec_driver_sql("SELECT count(*) FROM inspection").scalar() or 0))
-            raise RuntimeError("power cut before the commit")
-        real_commit(self)
 
-    monkeypatch.setattr(Connection, "commit", commit)
-    return held
-
-
-def test_a_crash_before_the_commit_leaves_neither_the_inspection_nor_the_key(
-    study: TestClient, session: Session, crash_at_commit: list[int]
+def test_a_failure_storing_the_key_leaves_neither_the_inspection_nor_the_key(
+    study: TestClient, session: Session, key_not_storable: None
 ) -> None:
     response = post(study, INSPECTIONS, STUDY, "crash-key")
 
     assert response.status_code == 500
-    assert crash_at_commit == [1], "the key was held with the inspection, in one transaction"
-    assert count_inspections(session) == 0
+    assert count_inspections(session) == 0, "the inspection went with the key it was stored with"
     assert keys_stored(session) == 0
-    for rows in (Reading, LoadingCaseRow):  # inserted in the same transaction, gone with it
+    for rows in (Reading, LoadingCaseRow):  # written with them, gone with them
         assert session.scalar(select(func.count()).select_from(rows)) == 0
 
 
@@ -263,7 +273,7 @@ def test_on_postgresql_a_retry_while_the_first_still_runs_gets_409(
     if engine.dialect.name != "postgresql":
         pytest.skip("SQLite has one writer: a concurrent duplicate waits, then gets the replay")
     station = session.scalars(select(Station)).one()
-    lock = _lock_id(Claim(station.id, "in-flight", "", ""))
+    lock = lock_id(Claim(station.id, "in-flight", "", ""))
     with engine.connect() as first_request:  # holds the key's lock as a running request would
         first_request.execute(select(func.pg_advisory_lock(lock)))
         response = post(study, INSPECTIONS, STUDY, "in-flight")
