@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import logging
+
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, text
 from study_data import STUDY_READINGS, STUDY_VEHICLE
@@ -60,3 +62,37 @@ def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClien
     issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
     assert issued.status_code == 201
     assert 'trikecert_certificates{verdict="non_compliant"} 1.0' in api.get("/metrics").text
+
+
+class _Kept(logging.Handler):
+    """Keeps the records it is given."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.records: list[logging.LogRecord] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.append(record)
+
+
+def test_a_probe_answered_ahead_of_the_framework_is_still_logged_with_its_headers(client: TestClient) -> None:
+    kept = _Kept()
+    access = logging.getLogger("trikecert.access")
+    access.addHandler(kept)
+    try:
+        response = client.get("/healthz", headers={"X-Request-ID": "probe-1", "X-Forwarded-Proto": "https"})
+    finally:
+        access.removeHandler(kept)
+
+    assert response.status_code == 200
+    assert response.headers["content-type"] == "application/json"
+    assert response.headers["x-content-type-options"] == "nosniff"
+    assert "server" not in response.headers
+    assert "strict-transport-security" not in response.headers, "https said by no trusted proxy"
+    [line] = [getattr(r, "fields", {}) for r in kept.records]
+    assert line["path"] == "/healthz"
+    assert (line["handler"], line["status"], line["request_id"]) == ("healthz", 200, "probe-1")
+
+
+def test_other_methods_on_the_probe_reach_the_route_and_are_refused(client: TestClient) -> None:
+    assert client.post("/healthz").status_code == 405
