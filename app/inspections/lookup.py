@@ -55,7 +55,6 @@ class OnFile:
     counted: Counted | None  # None: not counted (no station, or no rate limit)
     vehicle: VehicleOnFile | None  # None: no vehicle has the registration
     stored: StoredAnswer | None = None  # the answer already stored under the Idempotency-Key
-    new_inspection_id: int | None = None  # PostgreSQL: an id drawn for the inspection, should it be stored
 
 
 _STATION = cast(Table, Station.__table__)
@@ -90,8 +89,8 @@ def look_up(
         "window_start": window_start,
         "idempotency_key": idempotency_key,
     }
-    on_postgresql = connection.dialect.name == "postgresql"
-    counted_here = window_start is not None and on_postgresql
+
+    counted_here = window_start is not None and connection.dialect.name == "postgresql"
     statement = _COUNTED_HERE if counted_here else _NOT_COUNTED
     rows = statement(connection).execute(connection, parameters)
     if not rows:
@@ -106,8 +105,7 @@ def look_up(
     stored = None
     if first["stored_operation"] is not None:
         stored = StoredAnswer(**{name: first[f"stored_{name}"] for name in ANSWER_COLUMNS})
-    new_id = first["new_inspection_id"] if on_postgresql else None
-    return OnFile(station, counted, _vehicle(rows), stored, new_id)
+    return OnFile(station, counted, _vehicle(rows), stored)
 
 
 def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
@@ -138,7 +136,7 @@ def _count_apart(connection: Connection, station_id: int, window_start: int) -> 
     return Counted(row["request_count"], row["window_start"])
 
 
-def _statement(*, counted_here: bool, on_postgresql: bool) -> Any:
+def _statement(*, counted_here: bool) -> Any:
     """The look-up (built once per shape): one row per seat; with `counted_here`, the count too."""
     station = (
         select(*[_STATION.c[name].label(f"station_{name}") for name in _STATION_COLUMNS])
@@ -177,13 +175,7 @@ def _statement(*, counted_here: bool, on_postgresql: bool) -> Any:
         .where(_KEYS.c.key == bindparam("idempotency_key"))
         .subquery("stored")
     )
-    # PostgreSQL draws the new inspection's id here, so its answer (kept with an Idempotency-Key)
-    # is complete before the one statement that stores both; an id left unused is a gap, as after
-    # any refused insert.
-    # One row per seat: the id is drawn once, in a CTE of its own.
-    draw = func.nextval(func.pg_get_serial_sequence("inspection", "id")).label("new_inspection_id")
-    new_id = select(draw).cte("new_id")
-    columns: list[Any] = [station, vehicle, stored, *([new_id.c.new_inspection_id] if on_postgresql else [])]
+    columns: list[Any] = [station, vehicle, stored]
     query = (
         select(*columns)
         .select_from(station)
@@ -209,8 +201,6 @@ def _statement(*, counted_here: bool, on_postgresql: bool) -> Any:
             .outerjoin(vehicle, true())
             .outerjoin(stored, stored.c.stored_station_id == station.c.station_id)
         )
-    if on_postgresql:
-        query = query.join(new_id, true())
     return query.order_by(vehicle.c.seat_position)
 
 
@@ -223,7 +213,5 @@ _COUNT_APART = PreparedCache(
         )
     )
 )
-_COUNTED_HERE = PreparedCache(lambda _dialect: _statement(counted_here=True, on_postgresql=True))
-_NOT_COUNTED = PreparedCache(
-    lambda dialect: _statement(counted_here=False, on_postgresql=dialect == "postgresql")
-)
+_COUNTED_HERE = PreparedCache(lambda _dialect: _statement(counted_here=True))
+_NOT_COUNTED = PreparedCache(lambda _dialect: _statement(counted_here=False))

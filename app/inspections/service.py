@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
 
@@ -15,7 +15,7 @@ from app.errors import InvalidInput, NotFound
 from app.inspections.dynamics import CgLift, checked_dynamics, estimate_inputs
 from app.inspections.models import Inspection
 from app.inspections.record import InspectionRecord, Provenance, new_record
-from app.inspections.store import draw_inspection_id, store_record
+from app.inspections.store import store_record
 from app.stability import (
     Assessment,
     AssessmentInput,
@@ -173,9 +173,7 @@ def record_inspection(
         today=today,
     )
     begin_write(session)  # SQLite: only the inserts and the commit take the writer's turn
-    connection = session.connection()
-    record = replace(decided.record, id=draw_inspection_id(connection))
-    inspection_id = store_record(connection, record)
+    inspection_id = store_record(session.connection(), decided.record)
     if on_stored is not None:
         on_stored(session, inspection_id)
     session.commit()

@@ -51,20 +51,21 @@ def store_record(connection: Connection, record: InspectionRecord, *, keep: Kept
     """Insert the inspection, its readings and its loading cases (and the answer kept under an
     Idempotency-Key) in the connection's transaction; the inspection's id.
 
-    PostgreSQL inserts `record.id`, drawn beforehand (`draw_inspection_id`, or the submission's
-    look-up), so the kept answer is complete before the one statement; a connection in autocommit
-    makes that statement a transaction of its own. With a key the statement first takes the key's
-    lock: KeyInFlight (and nothing stored) when another request holds it. A key already stored
-    raises IntegrityError, and nothing is stored. SQLite learns the id from the insert.
+    PostgreSQL writes it all in one statement (a connection in autocommit makes it a transaction of
+    its own). With a key it inserts `record.id`, drawn just before (`draw_inspection_id`), so the
+    kept answer is complete beforehand, and it first takes the key's lock: KeyInFlight (and nothing
+    stored) when another request holds it. A key already stored raises IntegrityError, and nothing
+    is stored. SQLite learns the id from the insert.
     """
     columns = record.columns()
     if connection.dialect.name == "postgresql":
-        rows = {"id": record.id, "readings": _json_rows(record.readings), "cases": _json_rows(record.cases)}
+        rows = {"readings": _json_rows(record.readings), "cases": _json_rows(record.cases)}
         if keep is None:
-            _ONE_STATEMENT(connection).execute(connection, {**columns, **rows})
-            return record.id
+            return int(_ONE_STATEMENT(connection).execute(connection, {**columns, **rows})[0]["id"])
         kept = _kept(keep, record)
-        [row] = _ONE_KEYED_STATEMENT(connection).execute(connection, {**columns, **rows, **kept})
+        [row] = _ONE_KEYED_STATEMENT(connection).execute(
+            connection, {**columns, **rows, **kept, "id": record.id}
+        )
         if not row["held"]:
             raise KeyInFlight()
         return record.id
@@ -84,7 +85,7 @@ def store_record(connection: Connection, record: InspectionRecord, *, keep: Kept
 
 
 def draw_inspection_id(connection: Connection) -> int:
-    """PostgreSQL: the next inspection id, for `store_record` (SQLite: 0, its insert makes one)."""
+    """PostgreSQL: the next inspection id, for a keyed `store_record` (SQLite: 0, its insert makes one)."""
     if connection.dialect.name != "postgresql":
         return 0
     return int(_DRAW_ID(connection).execute(connection, {})[0]["id"])
@@ -143,17 +144,16 @@ def _rows_of(table: Table, parameter: str, names: tuple[str, ...]) -> Any:
 
 
 def _one_statement(*, keyed: bool) -> Any:
-    """PostgreSQL: the inspection (its id given), its readings and its cases in one statement; keyed,
-    all of it only once the key's lock is held, with the key's row, returning whether it was."""
-    values = select(*_values(_INSPECTION, ("id", *INSPECTION_COLUMNS)).values())
+    """PostgreSQL: the inspection, its readings and its cases in one statement, returning its id;
+    keyed, the inspection's id is given, all of it waits on the key's lock being held, the key's
+    row is written too, and the statement returns whether the lock was held."""
+    names = ("id", *INSPECTION_COLUMNS) if keyed else INSPECTION_COLUMNS
+    values = select(*_values(_INSPECTION, names).values())
     claim = select(func.pg_try_advisory_xact_lock(bindparam("lock")).label("held")).cte("claim")
     if keyed:
         values = values.select_from(claim).where(claim.c.held)
     inspection = (
-        insert(_INSPECTION)
-        .from_select(["id", *INSPECTION_COLUMNS], values)
-        .returning(_INSPECTION.c.id)
-        .cte("new_inspection")
+        insert(_INSPECTION).from_select(list(names), values).returning(_INSPECTION.c.id).cte("new_inspection")
     )
     readings = _rows_of(_READING, "readings", _READING_FIELDS)
     cases = _rows_of(_CASE, "cases", _CASE_FIELDS)

@@ -1,19 +1,19 @@
-"""POST /api/v1/inspections, a station's weighing, from the validated body to the commit.
+"""POST /api/v1/inspections, a station's weighing, from the parsed body to the commit.
 
 The steps of the rule, in order, on one pooled connection:
 
 1. look up, in one round trip: the station holding the key (401 if none), its request counted
-   against the rate limit (429 beyond it), and the vehicle with its seats and figures; only then is
-   the body validated (422 naming the field), so every signed request counts;
-2. with an Idempotency-Key already answered (read in step 1): that answer, replayed;
+   against the rate limit (429 beyond it), the vehicle with its seats and figures, and the answer
+   stored under the Idempotency-Key; only then is the body validated (422 naming the field), so
+   every signed request counts;
+2. with an Idempotency-Key already answered: that answer, replayed;
 3. the vehicle must be registered (404); decide with the pure core: the scale checked, every loading
    case assessed exactly, the estimates' inputs checked, the record rounded once (422 naming the
    field);
-4. store the record and the answer kept under the key: one statement on PostgreSQL, a transaction
-   of its own (the inspection's id was drawn in step 1, so the answer is complete beforehand; the
-   key's lock is taken in the same statement: 409 if another request holds it), a transaction
-   behind the writer's turn on SQLite; a key stored meanwhile by a concurrent request gets its
-   answer replayed;
+4. store the record, and the answer kept under the key: on PostgreSQL one statement, a transaction
+   of its own (with a key, the inspection's id is drawn just before, so the kept answer is complete,
+   and the key's lock is taken in the same statement: 409 if another request holds it); on SQLite a
+   transaction behind the writer's turn. A key stored meanwhile by a concurrent request: its answer;
 5. answer with the record just stored, in the same words a later GET gives.
 """
 
@@ -38,7 +38,7 @@ from app.inspections.record import InspectionRecord
 from app.inspections.requests import inspection_request
 from app.inspections.schemas import InspectionIn
 from app.inspections.service import decide
-from app.inspections.store import KeptAnswer, store_record
+from app.inspections.store import KeptAnswer, draw_inspection_id, store_record
 from app.stations.deps import unknown_key
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import RateLimit, check_count, window_start
@@ -94,8 +94,11 @@ def submit_inspection(document: Any, *, station_key: str, idempotency_key: str |
                 answers.append(inspection_answer(record, decided.estimates).model_dump_json().encode())
             return answers[0]
 
-        record = replace(decided.record, id=on_file.new_inspection_id or 0)
-        keep = None if claim is None else KeptAnswer(claim, status.HTTP_201_CREATED, answer)
+        record, keep = decided.record, None
+        if claim is not None:
+            # The id before the write (PostgreSQL), so the answer kept with the key is complete.
+            record = replace(record, id=draw_inspection_id(connection))
+            keep = KeptAnswer(claim, status.HTTP_201_CREATED, answer)
         try:
             begin_connection_write(connection)  # SQLite; PostgreSQL writes in one statement
             inspection_id = store_record(connection, record, keep=keep)
