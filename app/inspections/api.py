@@ -18,7 +18,6 @@ from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
 from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
 from app.inspections.dynamics import inspection_dynamics
-from app.inspections.models import Inspection
 from app.inspections.record import record_of
 from app.inspections.remedies import inspection_remedies
 from app.inspections.remedy_schemas import RemediesOut, remedies_out
@@ -30,6 +29,7 @@ from app.inspections.schemas import (
 )
 from app.inspections.service import (
     InspectionFilter,
+    ListedInspection,
     get_inspection,
     list_inspections,
 )
@@ -46,15 +46,15 @@ router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=Stri
 submission_router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
 
 
-def inspection_summary(inspection: Inspection) -> InspectionSummary:
+def inspection_summary(listed: ListedInspection) -> InspectionSummary:
     """The list view of a stored inspection."""
     return InspectionSummary(
-        id=inspection.id,
-        registration_number=inspection.vehicle.registration_number,
-        station=inspection.station.name if inspection.station else None,
-        created_at=inspection.created_at,
-        compliant=inspection.compliant,
-        max_compliant_occupants=inspection.max_compliant_occupants,
+        id=listed.id,
+        registration_number=listed.registration_number,
+        station=listed.station_name,
+        created_at=listed.created_at,
+        compliant=listed.compliant,
+        max_compliant_occupants=listed.max_compliant_occupants,
     )
 
 

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
 
-from sqlalchemy import func, select
-from sqlalchemy.orm import Session, lazyload
+from sqlalchemy import ColumnElement, func, select
+from sqlalchemy.orm import Session
 
 from app.db import begin_write, utcnow
 from app.errors import InvalidInput, NotFound
@@ -37,6 +37,8 @@ from app.stations.scale import (
     check_settled,
     configured_scale_rules,
 )
+from app.statistics.matching import count_matching
+from app.statistics.stored import stored_zone
 from app.vehicles.dynamics_service import current_revision
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile
@@ -225,30 +227,91 @@ class InspectionFilter:
     until: datetime | None = None
 
 
+@dataclass(frozen=True)
+class ListedInspection:
+    """An inspection as a list shows it: when, which vehicle, where, and the verdict."""
+
+    id: int
+    created_at: datetime
+    compliant: bool
+    max_compliant_occupants: int
+    registration_number: str
+    registration_key: str
+    station_name: str | None
+
+
 def list_inspections(
     session: Session, *, where: InspectionFilter, limit: int, offset: int
-) -> tuple[Sequence[Inspection], int]:
-    """One page of inspections matching the filter, newest first, and how many match in all."""
-    query = select(Inspection)
+) -> tuple[list[ListedInspection], int]:
+    """One page of inspections matching the filter, newest first, and how many match in all.
+
+    The page reads only the columns a list shows (no inspection, vehicle or station is loaded as
+    an object); the count is `count_inspections`.
+    """
+    conditions = _conditions(where)
+    if conditions is None:
+        return [], 0
+    page = session.execute(
+        select(
+            Inspection.id,
+            Inspection.created_at,
+            Inspection.compliant,
+            Inspection.max_compliant_occupants,
+            Vehicle.registration_number,
+            Vehicle.registration_key,
+            Station.name,
+        )
+        .join(Vehicle, Vehicle.id == Inspection.vehicle_id)
+        .outerjoin(Station, Station.id == Inspection.station_id)
+        .where(*conditions)
+        .order_by(Inspection.created_at.desc(), Inspection.id.desc())
+        .limit(limit)
+        .offset(offset)
+    )
+    return [ListedInspection(*row) for row in page], count_inspections(session, where=where)
+
+
+def count_inspections(session: Session, *, where: InspectionFilter, now: datetime | None = None) -> int:
+    """How many inspections match the filter.
+
+    A vehicle's are counted from the records (a few hundred at most). Otherwise the closed days the
+    period covers whole come from their stored counts and only its ends are counted
+    (app/statistics/matching.py), so the count costs the same at any size of the history.
+    """
+    conditions = _conditions(where)
+    if conditions is None:
+        return 0
+    if where.registration_number:
+        query = (
+            select(func.count()).select_from(Inspection).join(Vehicle, Vehicle.id == Inspection.vehicle_id)
+        )
+        return int(session.scalar(query.where(*conditions)) or 0)
+    return count_matching(
+        session,
+        conditions=conditions,
+        since=where.since,
+        until=where.until,
+        compliant=where.compliant,
+        station_id=where.station_id,
+        zone=stored_zone(),
+        now=now or utcnow(),
+    )
+
+
+def _conditions(where: InspectionFilter) -> list[ColumnElement[bool]] | None:
+    """The filter as SQL conditions on inspection (and vehicle); None when nothing can match."""
+    conditions: list[ColumnElement[bool]] = []
     if where.registration_number:
         key = normalise_registration(where.registration_number)
         if not valid_key(key):  # no vehicle has it; and PostgreSQL cannot even compare a NUL
-            return [], 0
-        query = query.join(Inspection.vehicle).where(Vehicle.registration_key == key)
+            return None
+        conditions.append(Vehicle.registration_key == key)
     if where.compliant is not None:
-        query = query.where(Inspection.compliant == where.compliant)
+        conditions.append(Inspection.compliant == where.compliant)
     if where.station_id is not None:
-        query = query.where(Inspection.station_id == where.station_id)
+        conditions.append(Inspection.station_id == where.station_id)
     if where.since is not None:
-        query = query.where(Inspection.created_at >= where.since)
+        conditions.append(Inspection.created_at >= where.since)
     if where.until is not None:
-        query = query.where(Inspection.created_at < where.until)
-    total = session.scalar(select(func.count()).select_from(query.subquery())) or 0
-    page = session.scalars(
-        query.order_by(Inspection.created_at.desc(), Inspection.id.desc())
-        .limit(limit)
-        .offset(offset)
-        # A list shows summaries: the readings and cases load only if a caller touches them.
-        .options(lazyload(Inspection.readings), lazyload(Inspection.loading_cases))
-    ).all()
-    return page, total
+        conditions.append(Inspection.created_at < where.until)
+    return conditions

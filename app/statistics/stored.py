@@ -15,13 +15,16 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from datetime import UTC, date, datetime, time, timedelta, tzinfo
+from functools import lru_cache
 from typing import Any, cast
+from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
 from sqlalchemy import Row, Table, and_, case, delete, func, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
 from app.certificates.models import Certificate, CertificateRevocation
+from app.config import get_settings
 from app.db import begin_write
 from app.inspections.models import Inspection
 from app.stations.models import Station
@@ -33,13 +36,23 @@ _DAY_STATION = cast(Table, StatisticsDayStation.__table__)
 _INSPECTION = cast(Table, Inspection.__table__)
 
 
+def stored_zone() -> tzinfo:
+    """The zone whose local days are stored for the lists' counts: the display zone (UTC if unknown)."""
+    try:
+        return ZoneInfo(get_settings().display_timezone)
+    except (ZoneInfoNotFoundError, ValueError):
+        return UTC
+
+
 def zone_name(zone: tzinfo) -> str:
     """The name the zone's days are stored under: its IANA key (Africa/Lagos), else its own name (UTC)."""
     return str(getattr(zone, "key", None) or datetime.now(zone).tzname() or "UTC")
 
 
+@lru_cache(maxsize=8192)
 def day_bounds(day: date, zone: tzinfo) -> tuple[datetime, datetime]:
-    """The UTC start of the local day and the UTC start of the next one."""
+    """The UTC start of the local day and the UTC start of the next one (worked out once per day and
+    zone: a year's statistics ask for 366 of them on every visit)."""
     start = datetime.combine(day, time.min, tzinfo=zone).astimezone(UTC)
     end = datetime.combine(day + timedelta(days=1), time.min, tzinfo=zone).astimezone(UTC)
     return start, end

@@ -11,7 +11,7 @@ from starlette.responses import RedirectResponse, Response
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import Conflict, NotFound, ServiceError
-from app.inspections.service import InspectionFilter, list_inspections
+from app.inspections.service import InspectionFilter, get_inspection, list_inspections
 from app.inspections.views import result_context
 from app.text import without_refused
 from app.vehicles.dynamics_views import figures_rows
@@ -128,6 +128,8 @@ def vehicle_page(
             "inspections": inspections,
             "total": total,
             "figures": figures_rows(vehicle),
-            "latest": result_context(session, inspections[0]) if inspections else None,
+            "latest": result_context(session, get_inspection(session, inspections[0].id))
+            if inspections
+            else None,
         },
     )

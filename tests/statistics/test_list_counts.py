@@ -1,0 +1,135 @@
+"""The count a list shows beside its page (app/inspections/service.py, count_inspections): from the
+stored counts of the closed days the period covers whole, and the records at its two ends, it is
+exactly the count a full scan of the records gives, for every filter, at any time of day, whatever
+the display zone, and with the days not stored yet or stored already."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Iterator
+from datetime import UTC, datetime, timedelta
+from decimal import Decimal
+
+import pytest
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session
+
+from app import config
+from app.inspections.models import Inspection
+from app.inspections.service import InspectionFilter, InspectionRequest, count_inspections, record_inspection
+from app.stability import Rules, WheelReadings
+from app.stations.models import Station
+from app.stations.service import create_station
+from app.statistics.models import StatisticsDay
+from app.vehicles.service import register_vehicle
+
+SEATS = [("driver", Decimal("0.9303"))] + [("passenger", Decimal("1.6303"))] * 3
+# Ten days of March 2026, the hours chosen on the edges of local days in Lagos (UTC+1),
+# New York (UTC-5, UTC-4 from 8 March) and Kolkata (UTC+5:30).
+MOMENTS = [
+    (day, hour, minute)
+    for day in range(1, 11)
+    for hour, minute in ((4, 59), (5, 0), (18, 29), (18, 30), (22, 59), (23, 0))
+]
+NOW = datetime(2026, 3, 20, 12, tzinfo=UTC)  # every day above closed
+
+
+def moment(day: int, hour: int, minute: int = 0) -> datetime:
+    return datetime(2026, 3, day, hour, minute, tzinfo=UTC)
+
+
+@pytest.fixture
+def history(session: Session, backdate: Callable[..., None]) -> list[Station]:
+    """Inspections at two stations and from the pages, compliant or not, on the day edges above."""
+    register_vehicle(
+        session,
+        registration_number="BDG 252 QH",
+        make="Bajaj",
+        model="RE",
+        wheelbase_m=Decimal(2),
+        seats=SEATS,
+    )
+    stations = [create_station(session, name=name)[0] for name in ("Agbara weighbridge", "Ikeja weighbridge")]
+    for i, (day, hour, minute) in enumerate(MOMENTS):
+        front = Decimal("250") if i % 3 else Decimal("108")  # 250 kg at the front complies, 108 does not
+        request = InspectionRequest(
+            registration_number="BDG 252 QH",
+            readings=WheelReadings((front,), (Decimal("115"),), (Decimal("135"),)),
+        )
+        station = (stations[0], stations[1], None)[i % 3]
+        stored = record_inspection(session, request=request, rules=Rules(), station=station)
+        session.commit()
+        backdate(stored.id, moment(day, hour, minute))
+    return stations
+
+
+@pytest.fixture(params=["Africa/Lagos", "America/New_York", "Asia/Kolkata", "UTC"])
+def display_zone(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
+    """The display zone, whose days are stored for the counts."""
+    monkeypatch.setenv("TRIKECERT_DISPLAY_TIMEZONE", request.param)
+    config.get_settings.cache_clear()
+    yield request.param
+    config.get_settings.cache_clear()
+
+
+def full_count(session: Session, where: InspectionFilter) -> int:
+    """The records counted one by one, the reference."""
+    query = select(func.count()).select_from(Inspection)
+    if where.compliant is not None:
+        query = query.where(Inspection.compliant == where.compliant)
+    if where.station_id is not None:
+        query = query.where(Inspection.station_id == where.station_id)
+    if where.since is not None:
+        query = query.where(Inspection.created_at >= where.since)
+    if where.until is not None:
+        query = query.where(Inspection.created_at < where.until)
+    return int(session.scalar(query) or 0)
+
+
+PERIODS: list[tuple[datetime | None, datetime | None]] = [
+    (None, None),  # all time
+    (moment(2, 22, 59), None),  # since a Lagos day edge
+    (moment(3, 7, 13), moment(9, 17, 2)),  # odd times at both ends
+    (moment(1, 0, 0), moment(13, 0, 0)),  # UTC midnights
+    (moment(4, 18, 30), moment(9, 4, 0)),  # a Kolkata edge, then a New York one
+    (moment(5, 5, 0), moment(6, 5, 0)),  # one day only
+    (moment(10, 1, 0), None),  # since within the last day
+]
+
+
+def test_the_count_of_a_list_is_a_full_count(
+    session: Session, history: list[Station], display_zone: str
+) -> None:
+    for (since, until), compliant, station in itertools.product(
+        PERIODS, (None, True, False), (None, *history)
+    ):
+        where = InspectionFilter(
+            compliant=compliant, station_id=station.id if station else None, since=since, until=until
+        )
+        expected = full_count(session, where)
+        assert count_inspections(session, where=where, now=NOW) == expected, (where, display_zone)
+        # Again: now from the days the first call stored.
+        assert count_inspections(session, where=where, now=NOW) == expected, (where, display_zone)
+
+
+def test_a_long_period_is_counted_from_stored_days_and_a_short_one_from_the_records(
+    session: Session, history: list[Station], display_zone: str
+) -> None:
+    stored_days = select(func.count()).select_from(StatisticsDay).where(StatisticsDay.zone == display_zone)
+    short = InspectionFilter(since=moment(5, 5, 0), until=moment(6, 5, 0))
+    assert count_inspections(session, where=short, now=NOW) == full_count(session, short)
+    assert session.scalar(stored_days) == 0, "a day or less: the records alone"
+
+    long = InspectionFilter(since=moment(1, 12, 0), until=moment(10, 12, 0))
+    assert count_inspections(session, where=long, now=NOW) == full_count(session, long)
+    assert 7 <= (session.scalar(stored_days) or 0) <= 9, "the whole closed days in between, stored"
+
+
+def test_days_not_closed_yet_are_counted_from_the_records(session: Session, history: list[Station]) -> None:
+    where = InspectionFilter(since=moment(1, 0, 0))
+    early = moment(10, 23, 30)  # 00:30 on 11 March in Lagos: 10 March is not closed yet
+    assert count_inspections(session, where=where, now=early) == full_count(session, where)
+    last_stored = session.scalars(select(StatisticsDay.day).order_by(StatisticsDay.day.desc())).first()
+    assert last_stored == moment(9, 0, 0).date(), "the last day stored is the last closed one"
+    later = early + timedelta(days=2)
+    assert count_inspections(session, where=where, now=later) == full_count(session, where)
