@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from datetime import date, datetime
 
-from sqlalchemy import Date, Integer, String
+from sqlalchemy import Date, Index, Integer, String
 from sqlalchemy.orm import Mapped, mapped_column
 
 from app.db import Base, UTCDateTime
@@ -43,6 +43,15 @@ class StatisticsDayStation(Base):
     """A counted day's inspections at one station (NO_STATION: the officers' pages); none: no row."""
 
     __tablename__ = "statistics_day_station"
+    # A period's sums per station read from the index alone (PostgreSQL: an index-only scan).
+    __table_args__ = (
+        Index(
+            "ix_statistics_day_station_zone_day",
+            "zone",
+            "day",
+            postgresql_include=["station_id", "inspections", "compliant"],
+        ),
+    )
 
     zone: Mapped[str] = mapped_column(String(64), primary_key=True)
     day: Mapped[date] = mapped_column(Date, primary_key=True)
