@@ -40,9 +40,12 @@ def count_matching(
     `since`, `until`, `compliant` and `station_id` are the filter's own, for the stored days;
     `zone` is the one whose days are stored (the display zone), `now` decides which are closed.
     """
-    start = since if since is not None else _first_time(session)
-    if start is None:
+    first_inspection = _first_time(session)
+    if first_inspection is None:
         return 0  # no inspection at all
+    # No day before the first inspection is stored (or counted): a period from the year 1472 costs
+    # what one from the first inspection costs.
+    start = first_inspection if since is None else max(since, first_inspection)
     days = _whole_closed_days(start, until, zone, now)
     if days is None:
         return _count_live(session, conditions)

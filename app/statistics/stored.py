@@ -31,6 +31,7 @@ from app.stations.models import Station
 from app.statistics.models import NO_STATION, StatisticsDay, StatisticsDayStation
 
 CLOSED_AFTER = timedelta(hours=1)
+DAYS_PER_BATCH = 366
 _DAY = cast(Table, StatisticsDay.__table__)
 _DAY_STATION = cast(Table, StatisticsDayStation.__table__)
 _INSPECTION = cast(Table, Inspection.__table__)
@@ -106,8 +107,20 @@ def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows
     stored = {row.day: (row.starts_at, row.ends_at) for row in rows}
     stale = [day for day, bounds in stored.items() if wanted[day] != bounds]
     missing = [day for day in wanted if day not in stored or day in stale]
-    if not missing:
-        return 0
+    counted = 0
+    # A batch at a time: years of days in one statement would pass the drivers' limit on parameters.
+    for start in range(0, len(missing), DAYS_PER_BATCH):
+        batch = missing[start : start + DAYS_PER_BATCH]
+        counted += _count_batch(
+            session, name, {day: wanted[day] for day in batch}, [d for d in batch if d in stale]
+        )
+    return counted
+
+
+def _count_batch(
+    session: Session, name: str, bounds: dict[date, tuple[datetime, datetime]], stale: list[date]
+) -> int:
+    """Claim and count the days of `bounds` (after dropping their `stale` rows), in one transaction."""
     begin_write(session)
     if stale:
         for table in (_DAY_STATION, _DAY):
@@ -115,8 +128,8 @@ def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows
     zero = dict.fromkeys(_COUNTS, 0)
     claim = _insert(session)(_DAY).values(
         [
-            {"zone": name, "day": day, "starts_at": wanted[day][0], "ends_at": wanted[day][1], **zero}
-            for day in missing
+            {"zone": name, "day": day, "starts_at": start, "ends_at": end, **zero}
+            for day, (start, end) in bounds.items()
         ]
     )
     claimed = list(session.scalars(claim.on_conflict_do_nothing().returning(_DAY.c.day)))

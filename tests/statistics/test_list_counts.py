@@ -88,6 +88,8 @@ def full_count(session: Session, where: InspectionFilter) -> int:
 
 PERIODS: list[tuple[datetime | None, datetime | None]] = [
     (None, None),  # all time
+    (datetime(1472, 8, 5, 18, 39, tzinfo=UTC), moment(4, 0, 0)),  # from long before the first inspection
+    (moment(1, 0, 0), datetime(9999, 1, 1, tzinfo=UTC)),  # until long after now
     (moment(2, 22, 59), None),  # since a Lagos day edge
     (moment(3, 7, 13), moment(9, 17, 2)),  # odd times at both ends
     (moment(1, 0, 0), moment(13, 0, 0)),  # UTC midnights
@@ -123,6 +125,28 @@ def test_a_long_period_is_counted_from_stored_days_and_a_short_one_from_the_reco
     long = InspectionFilter(since=moment(1, 12, 0), until=moment(10, 12, 0))
     assert count_inspections(session, where=long, now=NOW) == full_count(session, long)
     assert 7 <= (session.scalar(stored_days) or 0) <= 9, "the whole closed days in between, stored"
+
+
+def test_no_day_before_the_first_inspection_is_stored(session: Session, history: list[Station]) -> None:
+    where = InspectionFilter(since=datetime(1472, 8, 5, 18, 39, tzinfo=UTC))
+    assert count_inspections(session, where=where, now=NOW) == full_count(session, where)
+    first_stored = session.scalars(select(StatisticsDay.day).order_by(StatisticsDay.day)).first()
+    assert first_stored is not None
+    assert first_stored >= moment(1, 0, 0).date() - timedelta(days=1), "nothing from the fifteenth century"
+
+
+def test_decades_of_history_are_stored_and_counted(
+    session: Session, history: list[Station], backdate: Callable[..., None]
+) -> None:
+    """Thirty years of closed days in one request (years past any driver's limit on parameters in
+    one statement) are stored and counted exactly."""
+    oldest = session.scalars(select(Inspection.id).order_by(Inspection.id)).first()
+    assert oldest is not None
+    backdate(oldest, datetime(1996, 3, 1, 9, tzinfo=UTC))
+    where = InspectionFilter(since=datetime(1990, 1, 1, tzinfo=UTC))
+    assert count_inspections(session, where=where, now=NOW) == full_count(session, where) == len(MOMENTS)
+    stored_days = select(func.count()).select_from(StatisticsDay)
+    assert (session.scalar(stored_days) or 0) > 30 * 365
 
 
 def test_days_not_closed_yet_are_counted_from_the_records(session: Session, history: list[Station]) -> None:
