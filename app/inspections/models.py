@@ -20,7 +20,14 @@ class Inspection(Base):
 
     __tablename__ = "inspection"
     __table_args__ = (
-        Index("ix_inspection_vehicle_id_created_at", "vehicle_id", "created_at"),
+        # A vehicle's history, in the page's order; on PostgreSQL read from the index alone.
+        Index(
+            "ix_inspection_vehicle_history",
+            "vehicle_id",
+            "created_at",
+            "id",
+            postgresql_include=["compliant", "max_compliant_occupants", "station_id"],
+        ),
         Index("ix_inspection_compliant_created_at", "compliant", "created_at"),
         Index("ix_inspection_station_id_created_at", "station_id", "created_at"),
         # The day's and the period's counts: on PostgreSQL an index-only scan.

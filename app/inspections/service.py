@@ -251,6 +251,14 @@ def list_inspections(
     conditions = _conditions(where)
     if conditions is None:
         return [], 0
+    newest_first = (Inspection.created_at.desc(), Inspection.id.desc())
+    # The page's ids are chosen first, from the inspections alone (the vehicle only when the filter
+    # names it), and only those rows are joined: a deep page skips its offset without a vehicle
+    # look-up for every row it skips.
+    chosen = select(Inspection.id).where(*conditions).order_by(*newest_first).limit(limit).offset(offset)
+    if where.registration_number:
+        chosen = chosen.join(Vehicle, Vehicle.id == Inspection.vehicle_id)
+    on_page = chosen.subquery()
     page = session.execute(
         select(
             Inspection.id,
@@ -261,12 +269,10 @@ def list_inspections(
             Vehicle.registration_key,
             Station.name,
         )
+        .join(on_page, on_page.c.id == Inspection.id)
         .join(Vehicle, Vehicle.id == Inspection.vehicle_id)
         .outerjoin(Station, Station.id == Inspection.station_id)
-        .where(*conditions)
-        .order_by(Inspection.created_at.desc(), Inspection.id.desc())
-        .limit(limit)
-        .offset(offset)
+        .order_by(*newest_first)
     )
     return [ListedInspection(*row) for row in page], count_inspections(session, where=where)
 

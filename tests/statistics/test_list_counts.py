@@ -9,6 +9,7 @@ import itertools
 from collections.abc import Callable, Iterator
 from datetime import UTC, datetime, timedelta
 from decimal import Decimal
+from typing import Any
 
 import pytest
 from sqlalchemy import func, select
@@ -16,11 +17,18 @@ from sqlalchemy.orm import Session
 
 from app import config
 from app.inspections.models import Inspection
-from app.inspections.service import InspectionFilter, InspectionRequest, count_inspections, record_inspection
+from app.inspections.service import (
+    InspectionFilter,
+    InspectionRequest,
+    count_inspections,
+    list_inspections,
+    record_inspection,
+)
 from app.stability import Rules, WheelReadings
 from app.stations.models import Station
 from app.stations.service import create_station
 from app.statistics.models import StatisticsDay
+from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
 
 SEATS = [("driver", Decimal("0.9303"))] + [("passenger", Decimal("1.6303"))] * 3
@@ -157,3 +165,52 @@ def test_days_not_closed_yet_are_counted_from_the_records(session: Session, hist
     assert last_stored == moment(9, 0, 0).date(), "the last day stored is the last closed one"
     later = early + timedelta(days=2)
     assert count_inspections(session, where=where, now=later) == full_count(session, where)
+
+
+def test_pages_follow_each_other_newest_first_with_their_vehicle_and_station(
+    session: Session, history: list[Station], backdate: Callable[..., None]
+) -> None:
+    """Pages of seven, read one after the other, are every matching inspection once, newest first
+    (equal times by id, the later first), each with its own vehicle and station."""
+    register_vehicle(
+        session,
+        registration_number="KJA 19 XY",
+        make="TVS",
+        model="King",
+        wheelbase_m=Decimal(2),
+        seats=SEATS,
+    )
+    for day in (2, 6):
+        request = InspectionRequest(
+            registration_number="KJA 19 XY",
+            readings=WheelReadings((Decimal("250"),), (Decimal("115"),), (Decimal("135"),)),
+        )
+        stored = record_inspection(session, request=request, rules=Rules(), station=history[1])
+        session.commit()
+        backdate(stored.id, moment(day, 5, 0))  # the same moment as one of the other vehicle's
+    names = {station.id: station.name for station in history}
+    everything = session.execute(
+        select(Inspection.id, Vehicle.registration_number, Inspection.station_id, Inspection.compliant)
+        .join(Vehicle, Vehicle.id == Inspection.vehicle_id)
+        .order_by(Inspection.created_at.desc(), Inspection.id.desc())
+    ).all()
+    filters: list[tuple[InspectionFilter, Callable[[Any], bool]]] = [
+        (InspectionFilter(), lambda row: True),
+        (InspectionFilter(compliant=False), lambda row: not row.compliant),
+        (InspectionFilter(station_id=history[1].id), lambda row: row.station_id == history[1].id),
+        (InspectionFilter(registration_number="kja19xy"), lambda row: row.registration_number == "KJA 19 XY"),
+        (
+            InspectionFilter(registration_number="BDG 252 QH"),
+            lambda row: row.registration_number == "BDG 252 QH",
+        ),
+    ]
+    for where, matches in filters:
+        expected = [
+            (row.id, row.registration_number, names.get(row.station_id)) for row in everything if matches(row)
+        ]
+        listed: list[tuple[int, str, str | None]] = []
+        for offset in range(0, len(expected) + 7, 7):
+            page, count = list_inspections(session, where=where, limit=7, offset=offset)
+            assert count == len(expected), where
+            listed += [(item.id, item.registration_number, item.station_name) for item in page]
+        assert listed == expected, where
