@@ -251,28 +251,40 @@ def list_inspections(
     conditions = _conditions(where)
     if conditions is None:
         return [], 0
-    newest_first = (Inspection.created_at.desc(), Inspection.id.desc())
-    # The page's ids are chosen first, from the inspections alone (the vehicle only when the filter
-    # names it), and only those rows are joined: a deep page skips its offset without a vehicle
+    # The page's rows are chosen from the inspections alone (joined to the vehicle only when the
+    # filter names it; a vehicle's history is then read from its index alone), and only the chosen
+    # rows are joined to their vehicle and station: a deep page skips its offset without a vehicle
     # look-up for every row it skips.
-    chosen = select(Inspection.id).where(*conditions).order_by(*newest_first).limit(limit).offset(offset)
-    if where.registration_number:
-        chosen = chosen.join(Vehicle, Vehicle.id == Inspection.vehicle_id)
-    on_page = chosen.subquery()
-    page = session.execute(
+    chosen = (
         select(
             Inspection.id,
             Inspection.created_at,
             Inspection.compliant,
             Inspection.max_compliant_occupants,
+            Inspection.vehicle_id,
+            Inspection.station_id,
+        )
+        .where(*conditions)
+        .order_by(Inspection.created_at.desc(), Inspection.id.desc())
+        .limit(limit)
+        .offset(offset)
+    )
+    if where.registration_number:
+        chosen = chosen.join(Vehicle, Vehicle.id == Inspection.vehicle_id)
+    row = chosen.subquery()
+    page = session.execute(
+        select(
+            row.c.id,
+            row.c.created_at,
+            row.c.compliant,
+            row.c.max_compliant_occupants,
             Vehicle.registration_number,
             Vehicle.registration_key,
             Station.name,
         )
-        .join(on_page, on_page.c.id == Inspection.id)
-        .join(Vehicle, Vehicle.id == Inspection.vehicle_id)
-        .outerjoin(Station, Station.id == Inspection.station_id)
-        .order_by(*newest_first)
+        .join(Vehicle, Vehicle.id == row.c.vehicle_id)
+        .outerjoin(Station, Station.id == row.c.station_id)
+        .order_by(row.c.created_at.desc(), row.c.id.desc())
     )
     return [ListedInspection(*row) for row in page], count_inspections(session, where=where)
 
