@@ -12,8 +12,9 @@ The steps of the rule, in order, on one pooled connection:
    field);
 4. store the record, and the answer kept under the key: on PostgreSQL one statement, a transaction
    of its own (with a key, the inspection's id is drawn just before, so the kept answer is complete,
-   and the key's lock is taken in the same statement: 409 if another request holds it); on SQLite a
-   transaction behind the writer's turn. A key stored meanwhile by a concurrent request: its answer;
+   and the key's lock is taken in the same statement: 409 if another request holds it); on SQLite in
+   the writer's turn, committed together with the other submissions waiting for it in the process
+   (app/group_commit.py). A key stored meanwhile by a concurrent request: its answer;
 5. answer with the record just stored, in the same words a later GET gives.
 """
 
@@ -29,7 +30,8 @@ from sqlalchemy.exc import IntegrityError
 
 from app.api.validation import validated_body
 from app.config import get_settings
-from app.db import autocommit, begin_connection_write, get_engine
+from app.db import autocommit, get_engine
+from app.group_commit import write_and_commit
 from app.idempotency.http import claim_of, created, key_of, replay, retention
 from app.idempotency.service import maybe_prune, stored_answer, unless_expired
 from app.inspections.answer import inspection_answer
@@ -100,9 +102,9 @@ def submit_inspection(document: Any, *, station_key: str, idempotency_key: str |
             record = replace(record, id=draw_inspection_id(connection))
             keep = KeptAnswer(claim, status.HTTP_201_CREATED, answer)
         try:
-            begin_connection_write(connection)  # SQLite; PostgreSQL writes in one statement
-            inspection_id = store_record(connection, record, keep=keep)
-            connection.commit()
+            inspection_id = write_and_commit(
+                connection, lambda writer: store_record(writer, record, keep=keep)
+            )
         except IntegrityError:
             connection.rollback()
             if claim is None:
