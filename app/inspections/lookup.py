@@ -24,7 +24,7 @@ from typing import Any, cast
 from sqlalchemy import Connection, Table, bindparam, func, literal, select, true
 from sqlalchemy.dialects import postgresql, sqlite
 
-from app.db import begin_connection_write
+from app.group_commit import write_and_commit
 from app.idempotency.service import ANSWER_COLUMNS, StoredAnswer
 from app.idempotency.service import KEYS_TABLE as _KEYS
 from app.prepared import PreparedCache
@@ -127,12 +127,10 @@ def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
 
 
 def _count_apart(connection: Connection, station_id: int, window_start: int) -> Counted:
-    """SQLite: count the request in a write transaction of its own, committed at once."""
-    begin_connection_write(connection)
-    [row] = _COUNT_APART(connection).execute(
-        connection, {"station_id": station_id, "window_start": window_start}
-    )
-    connection.commit()
+    """SQLite: count the request in a write transaction, committed at once (together with the other
+    writes waiting for the writer's turn in this process)."""
+    parameters = {"station_id": station_id, "window_start": window_start}
+    [row] = write_and_commit(connection, lambda writer: _COUNT_APART(writer).execute(writer, parameters))
     return Counted(row["request_count"], row["window_start"])
 
 
