@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, time, timedelta, tzinfo
 
-from sqlalchemy import BigInteger, ColumnElement, Integer, case, cast, func, select
+from sqlalchemy import BigInteger, ColumnElement, Integer, case, cast, func, literal, select
 from sqlalchemy.orm import Session
 
 from app.certificates.models import Certificate, CertificateRevocation
@@ -219,11 +219,49 @@ def _add_stored(
 
 def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:
     """The open days counted from the records."""
-    for day in daily_counts(session, period=live, zone=zone, station_id=station_id):
-        tally.add_day(day.day, day.counts)
-    for station in station_counts(session, period=live, zone=zone, station_id=station_id):
-        tally.add_station(station.station_id, station.station, station.counts)
+    for day, sid, name, counts in open_day_counts(session, period=live, zone=zone, station_id=station_id):
+        tally.add_day(day, counts)
+        tally.add_station(sid, name, counts)
     tally.add_certificates(certificate_counts(session, period=live, zone=zone))
+
+
+def open_day_counts(
+    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
+) -> list[tuple[date, int | None, str | None, Counts]]:
+    """(day, station id, station name, counts) for each local day and station of a short period
+    (the open days: one or two), from one scan of the records.
+
+    Each inspection's day is told by comparing its time with the UTC starts of the period's days,
+    worked out in Python, so the database needs no time-zone support.
+    """
+    days = [period.first + timedelta(days=i) for i in range(period.days)]
+    start, end = period.utc_bounds(zone)
+    later_days = [
+        (Inspection.created_at >= stored.day_bounds(days[i], zone)[0], i) for i in range(len(days) - 1, 0, -1)
+    ]
+    day_number = case(*later_days, else_=0) if later_days else literal(0)
+    inspections = select(
+        day_number.label("day_number"), Inspection.station_id.label("station_id"), Inspection.compliant
+    ).where(Inspection.created_at >= start, Inspection.created_at < end)
+    if station_id is not None:
+        inspections = inspections.where(Inspection.station_id == station_id)
+    each = inspections.subquery()
+    counted = (
+        select(
+            each.c.day_number,
+            each.c.station_id,
+            func.count().label("n"),
+            func.coalesce(func.sum(case((each.c.compliant, 1), else_=0)), 0).label("ok"),
+        )
+        .group_by(each.c.day_number, each.c.station_id)
+        .subquery()
+    )
+    rows = session.execute(
+        select(counted.c.day_number, counted.c.station_id, Station.name, counted.c.n, counted.c.ok).outerjoin(
+            Station, Station.id == counted.c.station_id
+        )
+    ).all()
+    return [(days[int(number)], sid, name, Counts(int(n), int(ok))) for number, sid, name, n, ok in rows]
 
 
 def statistics(

