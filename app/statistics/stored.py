@@ -74,9 +74,13 @@ def _insert(session: Session) -> Any:
 
 def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
     # fetched whole (.all()): row by row, the driver's per-row calls cost ten times the query
-    return session.execute(
-        select(_DAY).where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last).order_by(_DAY.c.day)
-    ).all()
+    return list(
+        session.execute(
+            select(_DAY)
+            .where(_DAY.c.zone == name, _DAY.c.day >= first, _DAY.c.day <= last)
+            .order_by(_DAY.c.day)
+        ).all()
+    )
 
 
 def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> int:
