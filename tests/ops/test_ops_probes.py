@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import functools
 import logging
+import multiprocessing
+import re
 
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, text
 from study_data import STUDY_READINGS, STUDY_VEHICLE
+
+from app.ops.requests import request_id_of
 
 
 def test_healthz_answers_ok_and_carries_a_request_id(client: TestClient) -> None:
@@ -24,6 +29,21 @@ def test_a_sane_request_id_from_the_caller_is_echoed_and_a_hostile_one_replaced(
     replaced = client.get("/healthz", headers={"X-Request-ID": "bad id\twith spaces"}).headers["x-request-id"]
     assert replaced != "bad id\twith spaces"
     assert len(replaced) == 32
+
+
+def test_request_ids_differ_between_requests_and_between_forked_workers() -> None:
+    """Workers are forked from one process: each must make ids of its own, not replay the parent's."""
+    ids_of = functools.partial(_new_ids, 50)
+    with multiprocessing.get_context("fork").Pool(2) as workers:
+        in_workers = workers.map(ids_of, range(2))
+    here = ids_of(0)
+    every = [*here, *in_workers[0], *in_workers[1]]
+    assert len(set(every)) == len(every) == 150
+    assert all(re.fullmatch(r"[0-9a-f]{32}", request_id) for request_id in every)
+
+
+def _new_ids(count: int, _worker: int) -> list[str]:
+    return [request_id_of({"type": "http", "headers": []}) for _ in range(count)]
 
 
 def test_readyz_is_ready_when_the_database_is_migrated(client: TestClient) -> None:
