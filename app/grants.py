@@ -48,6 +48,8 @@ PRIVILEGES: dict[str, str] = {
     # Derived counts of closed days (app/statistics/models.py), counted again when stale: not records.
     "statistics_day": DISPOSABLE,
     "statistics_day_station": DISPOSABLE,
+    "statistics_month": DISPOSABLE,
+    "statistics_month_station": DISPOSABLE,
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

@@ -58,3 +58,24 @@ class StatisticsDayStation(Base):
     station_id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=False)
     inspections: Mapped[int] = mapped_column(Integer)
     compliant: Mapped[int] = mapped_column(Integer)
+
+
+class StatisticsMonth(Base):
+    """A calendar month of a zone whose per-station sums are stored: every day of it was stored first."""
+
+    __tablename__ = "statistics_month"
+
+    zone: Mapped[str] = mapped_column(String(64), primary_key=True)
+    month: Mapped[date] = mapped_column(Date, primary_key=True)  # its first day
+
+
+class StatisticsMonthStation(Base):
+    """A stored month's inspections at one station, the sum of its days' (none: no row)."""
+
+    __tablename__ = "statistics_month_station"
+
+    zone: Mapped[str] = mapped_column(String(64), primary_key=True)
+    month: Mapped[date] = mapped_column(Date, primary_key=True)
+    station_id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=False)
+    inspections: Mapped[int] = mapped_column(Integer)
+    compliant: Mapped[int] = mapped_column(Integer)

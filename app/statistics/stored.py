@@ -19,7 +19,21 @@ from functools import lru_cache
 from typing import Any, cast
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
-from sqlalchemy import Row, Table, and_, case, delete, func, select, update
+from sqlalchemy import (
+    Date,
+    Row,
+    Select,
+    String,
+    Table,
+    and_,
+    case,
+    delete,
+    func,
+    literal,
+    select,
+    union_all,
+    update,
+)
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
@@ -28,12 +42,20 @@ from app.config import get_settings
 from app.db import begin_write
 from app.inspections.models import Inspection
 from app.stations.models import Station
-from app.statistics.models import NO_STATION, StatisticsDay, StatisticsDayStation
+from app.statistics.models import (
+    NO_STATION,
+    StatisticsDay,
+    StatisticsDayStation,
+    StatisticsMonth,
+    StatisticsMonthStation,
+)
 
 CLOSED_AFTER = timedelta(hours=1)
 DAYS_PER_BATCH = 366
 _DAY = cast(Table, StatisticsDay.__table__)
 _DAY_STATION = cast(Table, StatisticsDayStation.__table__)
+_MONTH = cast(Table, StatisticsMonth.__table__)
+_MONTH_STATION = cast(Table, StatisticsMonthStation.__table__)
 _INSPECTION = cast(Table, Inspection.__table__)
 
 
@@ -126,6 +148,9 @@ def _count_batch(
     if stale:
         for table in (_DAY_STATION, _DAY):
             session.execute(delete(table).where(table.c.zone == name, table.c.day.in_(stale)))
+        months = {day.replace(day=1) for day in stale}  # their sums include the stale days
+        for table in (_MONTH_STATION, _MONTH):
+            session.execute(delete(table).where(table.c.zone == name, table.c.month.in_(months)))
     zero = dict.fromkeys(_COUNTS, 0)
     claim = _insert(session)(_DAY).values(
         [
@@ -218,15 +243,41 @@ def stored_daily(
 def stored_stations(
     session: Session, *, zone: tzinfo, first: date, last: date, station_id: int | None = None
 ) -> Iterable[tuple[int | None, str | None, int, int]]:
-    """(station id, name, inspections, compliant) over the stored days; the officers' pages as None."""
-    sid = _DAY_STATION.c.station_id
-    sums = select(
-        sid, func.sum(_DAY_STATION.c.inspections).label("n"), func.sum(_DAY_STATION.c.compliant).label("ok")
-    ).where(_in_period(zone, first, last))
+    """(station id, name, inspections, compliant) over the stored days `first` to `last` (every one
+    stored: see closed_days); the officers' pages as None.
+
+    The calendar months lying whole in the period are added up from their stored per-station sums
+    (stored here first where missing), and only the days before and after them from the days'.
+    """
+    name = zone_name(zone)
+    months = _whole_months(first, last)
+    parts = [_day_rows(name, first, last)]
+    if months:
+        _store_months(session, name, months)
+        covered_from, covered_until = months[0], _month_after(months[-1])
+        # Three ranges apart: one OR would scan every day between them.
+        parts = [
+            _day_rows(name, first, covered_from - timedelta(days=1)),
+            select(
+                _MONTH_STATION.c.station_id,
+                _MONTH_STATION.c.inspections.label("n"),
+                _MONTH_STATION.c.compliant.label("ok"),
+            ).where(
+                _MONTH_STATION.c.zone == name,
+                _MONTH_STATION.c.month >= covered_from,
+                _MONTH_STATION.c.month < covered_until,
+            ),
+            _day_rows(name, covered_until, last),
+        ]
     if station_id is not None:
-        sums = sums.where(sid == station_id)
+        parts = [part.where(part.selected_columns.station_id == station_id) for part in parts]
+    rows = union_all(*parts).subquery()
     # Summed first (one row per station), named after: the join meets 40 rows, not a year of days.
-    per_station = sums.group_by(sid).subquery()
+    per_station = (
+        select(rows.c.station_id, func.sum(rows.c.n).label("n"), func.sum(rows.c.ok).label("ok"))
+        .group_by(rows.c.station_id)
+        .subquery()
+    )
     query = select(per_station.c.station_id, Station.name, per_station.c.n, per_station.c.ok).outerjoin(
         Station, Station.id == per_station.c.station_id
     )
@@ -234,6 +285,57 @@ def stored_stations(
         (None if station == NO_STATION else station, name, int(n), int(ok))
         for station, name, n, ok in session.execute(query).all()
     ]
+
+
+def _day_rows(name: str, first: date, last: date) -> Select[Any]:
+    table = _DAY_STATION
+    return select(table.c.station_id, table.c.inspections.label("n"), table.c.compliant.label("ok")).where(
+        table.c.zone == name, table.c.day >= first, table.c.day <= last
+    )
+
+
+def _month_after(month: date) -> date:
+    """The first day of the month after the one `month` falls in."""
+    return (month.replace(day=28) + timedelta(days=4)).replace(day=1)
+
+
+def _whole_months(first: date, last: date) -> list[date]:
+    """The first days of the calendar months lying whole within `first` to `last`."""
+    month = first if first.day == 1 else _month_after(first)
+    months = []
+    while _month_after(month) - timedelta(days=1) <= last:
+        months.append(month)
+        month = _month_after(month)
+    return months
+
+
+def _store_months(session: Session, name: str, months: list[date]) -> None:
+    """Store the per-station sums of the months not stored yet, from their days' (all stored), once:
+    the month's row is claimed like a day's, and only the transaction that inserted it sums it."""
+    stored = set(
+        session.scalars(select(_MONTH.c.month).where(_MONTH.c.zone == name, _MONTH.c.month.in_(months)))
+    )
+    missing = [month for month in months if month not in stored]
+    if not missing:
+        return
+    begin_write(session)
+    claim = _insert(session)(_MONTH).values([{"zone": name, "month": month} for month in missing])
+    for month in session.scalars(claim.on_conflict_do_nothing().returning(_MONTH.c.month)).all():
+        days = _DAY_STATION
+        sums = (
+            select(
+                literal(name, String),
+                literal(month, Date),
+                days.c.station_id,
+                func.sum(days.c.inspections),
+                func.sum(days.c.compliant),
+            )
+            .where(days.c.zone == name, days.c.day >= month, days.c.day < _month_after(month))
+            .group_by(days.c.station_id)
+        )
+        columns = ["zone", "month", "station_id", "inspections", "compliant"]
+        session.execute(_MONTH_STATION.insert().from_select(columns, sums))
+    session.commit()
 
 
 def _in_period(zone: tzinfo, first: date, last: date) -> Any:

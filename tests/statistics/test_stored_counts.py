@@ -23,7 +23,7 @@ from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import Rules, WheelReadings
 from app.stations.models import Station
 from app.stations.service import create_station
-from app.statistics.models import StatisticsDay, StatisticsDayStation
+from app.statistics.models import StatisticsDay, StatisticsDayStation, StatisticsMonth, StatisticsMonthStation
 from app.statistics.service import (
     Period,
     Statistics,
@@ -250,3 +250,67 @@ def test_the_nightly_command_stores_the_closed_days(
     period = Period(today - timedelta(days=6), today)
     same(statistics(session, period=period, zone=UTC), full_count(session, period, UTC))
     assert statistics(session, period=period, zone=UTC).total.inspections == 1
+
+
+# Months: inspections from January to April 2026 on the edges of months in each zone tested.
+MONTH_EDGES = [
+    datetime(2026, 1, 10, 12, tzinfo=UTC),
+    datetime(2026, 1, 31, 18, 29, tzinfo=UTC),  # 31 January in Kolkata, 23:59
+    datetime(2026, 1, 31, 18, 30, tzinfo=UTC),  # 1 February in Kolkata
+    datetime(2026, 1, 31, 23, 0, tzinfo=UTC),  # 1 February in Lagos
+    datetime(2026, 2, 1, 4, 59, tzinfo=UTC),  # 31 January in New York
+    datetime(2026, 2, 14, 9, tzinfo=UTC),
+    datetime(2026, 2, 28, 23, 30, tzinfo=UTC),  # 1 March in Lagos, 28 February in UTC
+    datetime(2026, 3, 1, 5, 0, tzinfo=UTC),  # 1 March in New York
+    datetime(2026, 3, 15, 16, tzinfo=UTC),
+    datetime(2026, 3, 31, 22, 59, tzinfo=UTC),  # 31 March in Lagos
+    datetime(2026, 3, 31, 23, 0, tzinfo=UTC),  # 1 April in Lagos
+    datetime(2026, 4, 9, 8, tzinfo=UTC),
+]
+MONTHS_PERIODS = [
+    Period(date(2026, 1, 15), date(2026, 4, 10)),  # February and March whole, days at both ends
+    Period(date(2026, 2, 1), date(2026, 3, 31)),  # two whole months, no day outside them
+    Period(date(2026, 1, 1), date(2026, 2, 27)),  # January whole, February not
+]
+AFTER_THE_MONTHS = datetime(2026, 5, 2, tzinfo=UTC)
+
+
+@pytest.fixture
+def months_history(session: Session, store: Store) -> None:
+    agbara, _ = create_station(session, name="Agbara weighbridge")
+    ikeja, _ = create_station(session, name="Ikeja weighbridge")
+    for i, moment in enumerate(MONTH_EDGES):
+        store(moment, compliant=i % 3 != 1, station=(agbara, ikeja, None)[i % 3])
+
+
+@pytest.mark.parametrize("zone", [LAGOS, NEW_YORK, KOLKATA, UTC], ids=str)
+@pytest.mark.usefixtures("months_history")
+def test_whole_months_are_summed_once_and_agree_with_a_full_count(session: Session, zone: tzinfo) -> None:
+    for period in MONTHS_PERIODS:
+        expected = full_count(session, period, zone)
+        assert expected.total.inspections > 0
+        same(statistics(session, period=period, zone=zone, now=AFTER_THE_MONTHS), expected)
+        same(statistics(session, period=period, zone=zone, now=AFTER_THE_MONTHS), expected)
+        for station in session.scalars(select(Station)):
+            found = statistics(session, period=period, zone=zone, station_id=station.id, now=AFTER_THE_MONTHS)
+            same(found, full_count(session, period, zone, station_id=station.id))
+    months = session.scalars(select(StatisticsMonth.month).where(StatisticsMonth.zone == zone_name(zone)))
+    assert sorted(months) == [date(2026, 1, 1), date(2026, 2, 1), date(2026, 3, 1)], "each stored once"
+
+
+@pytest.mark.usefixtures("months_history")
+def test_a_month_with_a_day_counted_again_is_summed_again(session: Session, owner_engine: Engine) -> None:
+    period = MONTHS_PERIODS[0]
+    statistics(session, period=period, zone=LAGOS, now=AFTER_THE_MONTHS)
+    day = date(2026, 2, 14)
+    with owner_engine.begin() as connection:  # as if the zone's rules had changed since it was counted
+        connection.execute(update(StatisticsDay).where(StatisticsDay.day == day).values(starts_at=at(5, 22)))
+        connection.execute(
+            update(StatisticsMonthStation)
+            .where(StatisticsMonthStation.month == date(2026, 2, 1))
+            .values(inspections=99)
+        )
+
+    found = statistics(session, period=period, zone=LAGOS, now=AFTER_THE_MONTHS)
+
+    same(found, full_count(session, period, LAGOS))
