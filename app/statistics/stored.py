@@ -8,7 +8,9 @@ an INSERT ... ON CONFLICT DO NOTHING, and only the transaction that inserted it 
 concurrent requests and worker processes never count a day twice (SQLite: one writer at a time).
 The day keeps the UTC bounds it was counted over: after a change of the display zone the new zone's
 days are counted afresh under its own name, and a day whose bounds the zone's rules no longer give
-(a tzdata update) is counted again.
+(a tzdata update) is counted again. A calendar month whose days are all stored gets its per-station
+sums stored too (once, claimed the same way), so a year's per-station sums add up eleven or twelve
+months and the days at the period's ends; a day counted again drops its month's sums.
 """
 
 from __future__ import annotations
