@@ -314,3 +314,32 @@ def test_a_month_with_a_day_counted_again_is_summed_again(session: Session, owne
     found = statistics(session, period=period, zone=LAGOS, now=AFTER_THE_MONTHS)
 
     same(found, full_count(session, period, LAGOS))
+
+
+@pytest.mark.usefixtures("months_history")
+def test_concurrent_visits_sum_each_month_once(session: Session) -> None:
+    period = MONTHS_PERIODS[0]
+    count_closed_days(session, zone=KOLKATA, first=period.first, last=period.last)
+    start = threading.Barrier(4)
+    found: list[Statistics] = []
+
+    def visit() -> None:
+        with db.get_sessionmaker()() as own:
+            start.wait()
+            found.append(statistics(own, period=period, zone=KOLKATA, now=AFTER_THE_MONTHS))
+
+    threads = [threading.Thread(target=visit) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+
+    expected = full_count(session, period, KOLKATA)
+    assert len(found) == 4
+    for each in found:
+        same(each, expected)
+    month_rows = (
+        select(func.count()).select_from(StatisticsMonth).where(StatisticsMonth.zone == zone_name(KOLKATA))
+    )
+    assert session.scalar(month_rows) == 2, "February and March, each stored once"
+    same(statistics(session, period=period, zone=KOLKATA, now=AFTER_THE_MONTHS), expected)
