@@ -6,8 +6,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
+from typing import Any, TypeVar
 
-from sqlalchemy import ColumnElement, func, select
+from sqlalchemy import ColumnElement, Select, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write, utcnow
@@ -255,7 +256,7 @@ def list_inspections(
     # filter names it; a vehicle's history is then read from its index alone), and only the chosen
     # rows are joined to their vehicle and station: a deep page skips its offset without a vehicle
     # look-up for every row it skips.
-    chosen = (
+    chosen = _from_inspections(
         select(
             Inspection.id,
             Inspection.created_at,
@@ -263,30 +264,32 @@ def list_inspections(
             Inspection.max_compliant_occupants,
             Inspection.vehicle_id,
             Inspection.station_id,
-        )
-        .where(*conditions)
+        ),
+        where,
+    )
+    chosen_rows = (
+        chosen.where(*conditions)
         .order_by(Inspection.created_at.desc(), Inspection.id.desc())
         .limit(limit)
         .offset(offset)
+        .subquery()
     )
-    if where.registration_number:
-        chosen = chosen.join(Vehicle, Vehicle.id == Inspection.vehicle_id)
-    row = chosen.subquery()
     page = session.execute(
         select(
-            row.c.id,
-            row.c.created_at,
-            row.c.compliant,
-            row.c.max_compliant_occupants,
+            chosen_rows.c.id,
+            chosen_rows.c.created_at,
+            chosen_rows.c.compliant,
+            chosen_rows.c.max_compliant_occupants,
             Vehicle.registration_number,
             Vehicle.registration_key,
             Station.name,
         )
-        .join(Vehicle, Vehicle.id == row.c.vehicle_id)
-        .outerjoin(Station, Station.id == row.c.station_id)
-        .order_by(row.c.created_at.desc(), row.c.id.desc())
+        .join(Vehicle, Vehicle.id == chosen_rows.c.vehicle_id)
+        .outerjoin(Station, Station.id == chosen_rows.c.station_id)
+        .order_by(chosen_rows.c.created_at.desc(), chosen_rows.c.id.desc())
     )
-    return [ListedInspection(*row) for row in page], count_inspections(session, where=where)
+    listed = [ListedInspection(*row) for row in page]
+    return listed, _count(session, where, conditions, now=utcnow())
 
 
 def count_inspections(session: Session, *, where: InspectionFilter, now: datetime | None = None) -> int:
@@ -297,12 +300,14 @@ def count_inspections(session: Session, *, where: InspectionFilter, now: datetim
     (app/statistics/matching.py), so the count costs the same at any size of the history.
     """
     conditions = _conditions(where)
-    if conditions is None:
-        return 0
+    return 0 if conditions is None else _count(session, where, conditions, now=now or utcnow())
+
+
+def _count(
+    session: Session, where: InspectionFilter, conditions: list[ColumnElement[bool]], *, now: datetime
+) -> int:
     if where.registration_number:
-        query = (
-            select(func.count()).select_from(Inspection).join(Vehicle, Vehicle.id == Inspection.vehicle_id)
-        )
+        query = _from_inspections(select(func.count()).select_from(Inspection), where)
         return int(session.scalar(query.where(*conditions)) or 0)
     return count_matching(
         session,
@@ -312,8 +317,17 @@ def count_inspections(session: Session, *, where: InspectionFilter, now: datetim
         compliant=where.compliant,
         station_id=where.station_id,
         zone=stored_zone(),
-        now=now or utcnow(),
+        now=now,
     )
+
+
+_Query = TypeVar("_Query", bound="Select[*tuple[Any, ...]]")
+
+
+def _from_inspections(query: _Query, where: InspectionFilter) -> _Query:
+    """The query on inspections, with their vehicle joined when the filter names one (its condition
+    is on the vehicle)."""
+    return query.join(Vehicle, Vehicle.id == Inspection.vehicle_id) if where.registration_number else query
 
 
 def _conditions(where: InspectionFilter) -> list[ColumnElement[bool]] | None:
