@@ -110,10 +110,6 @@ def _quarter_hour(session: Session) -> ColumnElement[int]:
     return cast(func.strftime("%s", Inspection.created_at), Integer) // BUCKET_SECONDS
 
 
-def _compliant_count() -> ColumnElement[int]:
-    return func.coalesce(func.sum(case((Inspection.compliant, 1), else_=0)), 0)
-
-
 def daily_counts(
     session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
 ) -> list[DayCounts]:
@@ -121,7 +117,7 @@ def daily_counts(
     start, end = period.utc_bounds(zone)
     bucket = _quarter_hour(session).label("bucket")
     query = (
-        select(bucket, func.count(), _compliant_count())
+        select(bucket, func.count(), stored.compliant_count(Inspection.compliant))
         .where(Inspection.created_at >= start, Inspection.created_at < end)
         .group_by(bucket)
     )
@@ -142,7 +138,9 @@ def station_counts(
     """Inspections per station over the period, the busiest first; officers' entries as station None."""
     start, end = period.utc_bounds(zone)
     query = (
-        select(Inspection.station_id, Station.name, func.count(), _compliant_count())
+        select(
+            Inspection.station_id, Station.name, func.count(), stored.compliant_count(Inspection.compliant)
+        )
         .outerjoin(Station, Station.id == Inspection.station_id)
         .where(Inspection.created_at >= start, Inspection.created_at < end)
         .group_by(Inspection.station_id, Station.name)
@@ -251,7 +249,7 @@ def open_day_counts(
             each.c.day_number,
             each.c.station_id,
             func.count().label("n"),
-            func.coalesce(func.sum(case((each.c.compliant, 1), else_=0)), 0).label("ok"),
+            stored.compliant_count(each.c.compliant).label("ok"),
         )
         .group_by(each.c.day_number, each.c.station_id)
         .subquery()

@@ -22,6 +22,7 @@ from typing import Any, cast
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
 from sqlalchemy import (
+    ColumnElement,
     Date,
     Row,
     Select,
@@ -37,7 +38,7 @@ from sqlalchemy import (
     update,
 )
 from sqlalchemy.dialects import postgresql, sqlite
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import InstrumentedAttribute, Session
 
 from app.certificates.models import Certificate, CertificateRevocation
 from app.config import get_settings
@@ -67,6 +68,11 @@ def stored_zone() -> tzinfo:
         return ZoneInfo(get_settings().display_timezone)
     except (ZoneInfoNotFoundError, ValueError):
         return UTC
+
+
+def compliant_count(compliant: ColumnElement[bool] | InstrumentedAttribute[bool]) -> ColumnElement[int]:
+    """How many of the grouped rows have `compliant` true (0 for none)."""
+    return func.coalesce(func.sum(case((compliant, 1), else_=0)), 0)
 
 
 def zone_name(zone: tzinfo) -> str:
@@ -174,7 +180,7 @@ _COUNTS = ("inspections", "compliant", "certificates_issued", "refusals_issued",
 def _count_inspections(session: Session, name: str, days: list[date]) -> None:
     """One row per claimed day and station with inspections, counted inside the database."""
     station = func.coalesce(_INSPECTION.c.station_id, NO_STATION)
-    compliant = func.coalesce(func.sum(case((_INSPECTION.c.compliant, 1), else_=0)), 0)
+    compliant = compliant_count(_INSPECTION.c.compliant)
     in_day = and_(_INSPECTION.c.created_at >= _DAY.c.starts_at, _INSPECTION.c.created_at < _DAY.c.ends_at)
     counts = (
         select(_DAY.c.zone, _DAY.c.day, station, func.count(), compliant)
@@ -235,7 +241,7 @@ def stored_daily(
     """(day, inspections, compliant) at one station on the stored days `first` to `last` it had any."""
     query = (
         select(_DAY_STATION.c.day, func.sum(_DAY_STATION.c.inspections), func.sum(_DAY_STATION.c.compliant))
-        .where(_in_period(zone, first, last))
+        .where(_in_period(zone_name(zone), first, last))
         .where(_DAY_STATION.c.station_id == station_id)
         .group_by(_DAY_STATION.c.day)
     )
@@ -292,7 +298,7 @@ def stored_stations(
 def _day_rows(name: str, first: date, last: date) -> Select[Any]:
     table = _DAY_STATION
     return select(table.c.station_id, table.c.inspections.label("n"), table.c.compliant.label("ok")).where(
-        table.c.zone == name, table.c.day >= first, table.c.day <= last
+        _in_period(name, first, last)
     )
 
 
@@ -332,7 +338,7 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
                 func.sum(days.c.inspections),
                 func.sum(days.c.compliant),
             )
-            .where(days.c.zone == name, days.c.day >= month, days.c.day < _month_after(month))
+            .where(_in_period(name, month, _month_after(month) - timedelta(days=1)))
             .group_by(days.c.station_id)
         )
         columns = ["zone", "month", "station_id", "inspections", "compliant"]
@@ -340,6 +346,7 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
     session.commit()
 
 
-def _in_period(zone: tzinfo, first: date, last: date) -> Any:
+def _in_period(name: str, first: date, last: date) -> Any:
+    """The per-station day rows of zone `name` from `first` to `last`, both included."""
     table = _DAY_STATION
-    return and_(table.c.zone == zone_name(zone), table.c.day >= first, table.c.day <= last)
+    return and_(table.c.zone == name, table.c.day >= first, table.c.day <= last)
