@@ -46,6 +46,25 @@ def moment(day: int, hour: int, minute: int = 0) -> datetime:
     return datetime(2026, 3, day, hour, minute, tzinfo=UTC)
 
 
+def inspect(
+    session: Session,
+    backdate: Callable[..., None],
+    registration: str,
+    *,
+    front: Decimal,
+    station: Station | None,
+    at: datetime,
+) -> None:
+    """Store an inspection of the vehicle (rear wheels 115 and 135 kg) as if made at `at`."""
+    request = InspectionRequest(
+        registration_number=registration,
+        readings=WheelReadings((front,), (Decimal("115"),), (Decimal("135"),)),
+    )
+    stored = record_inspection(session, request=request, rules=Rules(), station=station)
+    session.commit()
+    backdate(stored.id, at)
+
+
 @pytest.fixture
 def history(session: Session, backdate: Callable[..., None]) -> list[Station]:
     """Inspections at two stations and from the pages, compliant or not, on the day edges above."""
@@ -60,14 +79,8 @@ def history(session: Session, backdate: Callable[..., None]) -> list[Station]:
     stations = [create_station(session, name=name)[0] for name in ("Agbara weighbridge", "Ikeja weighbridge")]
     for i, (day, hour, minute) in enumerate(MOMENTS):
         front = Decimal("250") if i % 3 else Decimal("108")  # 250 kg at the front complies, 108 does not
-        request = InspectionRequest(
-            registration_number="BDG 252 QH",
-            readings=WheelReadings((front,), (Decimal("115"),), (Decimal("135"),)),
-        )
         station = (stations[0], stations[1], None)[i % 3]
-        stored = record_inspection(session, request=request, rules=Rules(), station=station)
-        session.commit()
-        backdate(stored.id, moment(day, hour, minute))
+        inspect(session, backdate, "BDG 252 QH", front=front, station=station, at=moment(day, hour, minute))
     return stations
 
 
@@ -180,14 +193,10 @@ def test_pages_follow_each_other_newest_first_with_their_vehicle_and_station(
         wheelbase_m=Decimal(2),
         seats=SEATS,
     )
-    for day in (2, 6):
-        request = InspectionRequest(
-            registration_number="KJA 19 XY",
-            readings=WheelReadings((Decimal("250"),), (Decimal("115"),), (Decimal("135"),)),
+    for day in (2, 6):  # at the same moment as one of the other vehicle's
+        inspect(
+            session, backdate, "KJA 19 XY", front=Decimal("250"), station=history[1], at=moment(day, 5, 0)
         )
-        stored = record_inspection(session, request=request, rules=Rules(), station=history[1])
-        session.commit()
-        backdate(stored.id, moment(day, 5, 0))  # the same moment as one of the other vehicle's
     names = {station.id: station.name for station in history}
     everything = session.execute(
         select(Inspection.id, Vehicle.registration_number, Inspection.station_id, Inspection.compliant)
