@@ -12,7 +12,21 @@ from datetime import UTC, datetime
 from functools import lru_cache
 from typing import Any
 
-from sqlalchemy import Connection, DateTime, Engine, MetaData, create_engine, event, exc, make_url
+from sqlalchemy import (
+    BigInteger,
+    ColumnElement,
+    Connection,
+    DateTime,
+    Engine,
+    Integer,
+    MetaData,
+    cast,
+    create_engine,
+    event,
+    exc,
+    func,
+    make_url,
+)
 from sqlalchemy.orm import DeclarativeBase, Session, sessionmaker
 from sqlalchemy.types import TypeDecorator
 from starlette.concurrency import run_in_threadpool
@@ -54,6 +68,14 @@ class UTCDateTime(TypeDecorator[datetime]):
         if value is None:
             return None
         return value.replace(tzinfo=UTC) if value.tzinfo is None else value.astimezone(UTC)
+
+
+def epoch_seconds(session: Session, moment: ColumnElement[datetime] | Any) -> ColumnElement[int]:
+    """A stored time stamp as whole seconds since 1970 (UTC, rounded down), worked out in SQL."""
+    if session.get_bind().dialect.name == "postgresql":
+        return cast(func.floor(func.extract("epoch", moment)), BigInteger)
+    # SQLite keeps UTC as text; strftime('%s') reads it as seconds since 1970.
+    return cast(func.strftime("%s", moment), Integer)
 
 
 def utcnow() -> datetime:

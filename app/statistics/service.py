@@ -18,11 +18,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, time, timedelta, tzinfo
 
-from sqlalchemy import BigInteger, ColumnElement, Integer, case, cast, func, literal, select
+from sqlalchemy import ColumnElement, ScalarSelect, case, func, literal, select
 from sqlalchemy.orm import Session
 
 from app.certificates.models import Certificate, CertificateRevocation
-from app.db import utcnow
+from app.db import epoch_seconds, utcnow
 from app.inspections.models import Inspection
 from app.stations.models import Station
 from app.statistics import stored
@@ -103,11 +103,7 @@ class Statistics:
 
 def _quarter_hour(session: Session) -> ColumnElement[int]:
     """The number of the quarter hour since 1970 (UTC) an inspection was made in."""
-    if session.get_bind().dialect.name == "postgresql":
-        epoch = func.extract("epoch", Inspection.created_at)
-        return cast(func.floor(epoch / BUCKET_SECONDS), BigInteger)
-    # SQLite keeps UTC as text; strftime('%s') reads it as seconds since 1970.
-    return cast(func.strftime("%s", Inspection.created_at), Integer) // BUCKET_SECONDS
+    return epoch_seconds(session, Inspection.created_at) // BUCKET_SECONDS
 
 
 def daily_counts(
@@ -155,41 +151,50 @@ def station_counts(
 
 
 def certificate_counts(session: Session, *, period: Period, zone: tzinfo) -> tuple[int, int, int]:
-    """Certificates and refusals issued, and certificates revoked, in the period."""
+    """Certificates and refusals issued, and certificates revoked, in the period (one statement)."""
     start, end = period.utc_bounds(zone)
-    issued = session.execute(
-        select(Certificate.compliant, func.count())
-        .where(Certificate.issued_at >= start, Certificate.issued_at < end)
-        .group_by(Certificate.compliant)
-    ).all()
-    by_kind = {bool(compliant): int(n) for compliant, n in issued}
-    revoked = session.scalar(
-        select(func.count()).where(
-            CertificateRevocation.revoked_at >= start, CertificateRevocation.revoked_at < end
-        )
+
+    def issued(compliant: bool) -> ScalarSelect[int]:
+        in_period = (Certificate.issued_at >= start, Certificate.issued_at < end)
+        return select(func.count()).where(Certificate.compliant.is_(compliant), *in_period).scalar_subquery()
+
+    revoked = select(func.count()).where(
+        CertificateRevocation.revoked_at >= start, CertificateRevocation.revoked_at < end
     )
-    return by_kind.get(True, 0), by_kind.get(False, 0), int(revoked or 0)
+    counts = session.execute(select(issued(True), issued(False), revoked.scalar_subquery())).one()
+    return int(counts[0]), int(counts[1]), int(counts[2])
 
 
 class _Tally:
-    """The counts of a period being added up from its stored and its live part."""
+    """The counts of a period being added up from its stored and its live part: plain numbers
+    until the end (a year's visit adds up hundreds of them, and each Counts made costs more)."""
 
     def __init__(self, period: Period) -> None:
-        self.days = {period.first + timedelta(days=i): Counts() for i in range(period.days)}
-        self.stations: dict[int | None, StationCounts] = {}
+        self.days = {period.first + timedelta(days=i): [0, 0] for i in range(period.days)}
+        self.stations: dict[int | None, tuple[str | None, list[int]]] = {}
         self.certificates = [0, 0, 0]  # certificates issued, refusals issued, certificates revoked
 
-    def add_day(self, day: date, counts: Counts) -> None:
-        self.days[day] += counts
+    def add_day(self, day: date, inspections: int, compliant: int) -> None:
+        counts = self.days[day]
+        counts[0] += inspections
+        counts[1] += compliant
 
-    def add_station(self, station_id: int | None, name: str | None, counts: Counts) -> None:
-        before = self.stations.get(station_id)
-        self.stations[station_id] = StationCounts(
-            station_id, name, before.counts + counts if before else counts
-        )
+    def add_station(self, station_id: int | None, name: str | None, inspections: int, compliant: int) -> None:
+        counts = self.stations.setdefault(station_id, (name, [0, 0]))[1]
+        counts[0] += inspections
+        counts[1] += compliant
 
     def add_certificates(self, counts: tuple[int, int, int]) -> None:
         self.certificates = [mine + theirs for mine, theirs in zip(self.certificates, counts, strict=True)]
+
+    def day_counts(self) -> list[DayCounts]:
+        """Every day of the period with its counts, oldest first."""
+        return [DayCounts(day, Counts(n, ok)) for day, (n, ok) in self.days.items()]
+
+    def station_counts(self) -> list[StationCounts]:
+        """The stations with inspections, the busiest first."""
+        found = [StationCounts(sid, name, Counts(n, ok)) for sid, (name, (n, ok)) in self.stations.items()]
+        return sorted(found, key=_busiest_first)
 
 
 def _add_stored(
@@ -200,16 +205,16 @@ def _add_stored(
     days = stored.closed_days(session, zone=zone, first=first, last=last)
     if station_id is None:
         for row in days:
-            tally.add_day(row.day, Counts(row.inspections, row.compliant))
+            tally.add_day(row.day, row.inspections, row.compliant)
     else:
         for day, inspections, compliant in stored.stored_daily(
             session, zone=zone, first=first, last=last, station_id=station_id
         ):
-            tally.add_day(day, Counts(inspections, compliant))
+            tally.add_day(day, inspections, compliant)
     for sid, name, inspections, compliant in stored.stored_stations(
         session, zone=zone, first=first, last=last, station_id=station_id
     ):
-        tally.add_station(sid, name, Counts(inspections, compliant))
+        tally.add_station(sid, name, inspections, compliant)
     issued = sum(row.certificates_issued for row in days)
     refusals = sum(row.refusals_issued for row in days)
     tally.add_certificates((issued, refusals, sum(row.certificates_revoked for row in days)))
@@ -218,8 +223,8 @@ def _add_stored(
 def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:
     """The open days counted from the records."""
     for day, sid, name, counts in open_day_counts(session, period=live, zone=zone, station_id=station_id):
-        tally.add_day(day, counts)
-        tally.add_station(sid, name, counts)
+        tally.add_day(day, counts.inspections, counts.compliant)
+        tally.add_station(sid, name, counts.inspections, counts.compliant)
     tally.add_certificates(certificate_counts(session, period=live, zone=zone))
 
 
@@ -284,11 +289,10 @@ def statistics(
     if first_open <= period.last:
         live = Period(first_open, period.last)
         _add_live(tally, session, live=live, zone=zone, station_id=station_id)
-    days = [DayCounts(day, counts) for day, counts in tally.days.items()]
-    total = sum((d.counts for d in days), Counts())
-    stations = sorted(tally.stations.values(), key=_busiest_first)
+    days = tally.day_counts()
+    total = Counts(sum(d.counts.inspections for d in days), sum(d.counts.compliant for d in days))
     issued, refusals, revoked = tally.certificates
-    return Statistics(period, total, days, stations, issued, refusals, revoked)
+    return Statistics(period, total, days, tally.station_counts(), issued, refusals, revoked)
 
 
 def _busiest_first(station: StationCounts) -> tuple[int, bool, str]:

@@ -147,6 +147,8 @@ def test_stored_counts_agree_with_a_full_count(session: Session, zone: tzinfo) -
     same(first_visit, expected)
     same(second_visit, expected)
     assert stored_days(session, zone) == PERIOD.days, "every closed day stored once, empty ones too"
+    recounted = count_closed_days(session, zone=zone, first=PERIOD.first, last=PERIOD.last)
+    assert recounted == 0, "each stored day's bounds read back as the zone's: none counted again"
     assert first_visit.certificates_issued + first_visit.refusals_issued == 3
     assert first_visit.certificates_revoked == 1
 
