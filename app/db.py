@@ -70,9 +70,10 @@ class UTCDateTime(TypeDecorator[datetime]):
         return value.replace(tzinfo=UTC) if value.tzinfo is None else value.astimezone(UTC)
 
 
-def epoch_seconds(session: Session, moment: ColumnElement[datetime] | Any) -> ColumnElement[int]:
-    """A stored time stamp as whole seconds since 1970 (UTC, rounded down), worked out in SQL."""
-    if session.get_bind().dialect.name == "postgresql":
+def epoch_seconds(dialect: str, moment: ColumnElement[datetime] | Any) -> ColumnElement[int]:
+    """A stored time stamp as whole seconds since 1970 (UTC, rounded down), worked out in SQL by the
+    database of `dialect` (its name: postgresql or sqlite)."""
+    if dialect == "postgresql":
         return cast(func.floor(func.extract("epoch", moment)), BigInteger)
     # SQLite keeps UTC as text; strftime('%s') reads it as seconds since 1970.
     return cast(func.strftime("%s", moment), Integer)

@@ -17,8 +17,20 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, time, timedelta, tzinfo
+from functools import lru_cache
+from typing import Any
 
-from sqlalchemy import ColumnElement, ScalarSelect, case, func, literal, select
+from sqlalchemy import (
+    BindParameter,
+    ColumnElement,
+    ScalarSelect,
+    Select,
+    bindparam,
+    case,
+    func,
+    literal,
+    select,
+)
 from sqlalchemy.orm import Session
 
 from app.certificates.models import Certificate, CertificateRevocation
@@ -103,7 +115,7 @@ class Statistics:
 
 def _quarter_hour(session: Session) -> ColumnElement[int]:
     """The number of the quarter hour since 1970 (UTC) an inspection was made in."""
-    return epoch_seconds(session, Inspection.created_at) // BUCKET_SECONDS
+    return epoch_seconds(session.get_bind().dialect.name, Inspection.created_at) // BUCKET_SECONDS
 
 
 def daily_counts(
@@ -153,6 +165,15 @@ def station_counts(
 def certificate_counts(session: Session, *, period: Period, zone: tzinfo) -> tuple[int, int, int]:
     """Certificates and refusals issued, and certificates revoked, in the period (one statement)."""
     start, end = period.utc_bounds(zone)
+    counts = session.execute(_certificates_query(), {"start": start, "end": end}).one()
+    return int(counts[0]), int(counts[1]), int(counts[2])
+
+
+@lru_cache(maxsize=1)
+def _certificates_query() -> Select[Any]:
+    """Certificates issued, refusals issued and certificates revoked from `start` to `end` (bound)."""
+    start: BindParameter[datetime] = bindparam("start")
+    end: BindParameter[datetime] = bindparam("end")
 
     def issued(compliant: bool) -> ScalarSelect[int]:
         in_period = (Certificate.issued_at >= start, Certificate.issued_at < end)
@@ -161,8 +182,7 @@ def certificate_counts(session: Session, *, period: Period, zone: tzinfo) -> tup
     revoked = select(func.count()).where(
         CertificateRevocation.revoked_at >= start, CertificateRevocation.revoked_at < end
     )
-    counts = session.execute(select(issued(True), issued(False), revoked.scalar_subquery())).one()
-    return int(counts[0]), int(counts[1]), int(counts[2])
+    return select(issued(True), issued(False), revoked.scalar_subquery())
 
 
 class _Tally:
@@ -191,6 +211,10 @@ class _Tally:
         """Every day of the period with its counts, oldest first."""
         return [DayCounts(day, Counts(n, ok)) for day, (n, ok) in self.days.items()]
 
+    def total(self) -> Counts:
+        """The period's counts, every day together."""
+        return Counts(sum(n for n, _ in self.days.values()), sum(ok for _, ok in self.days.values()))
+
     def station_counts(self) -> list[StationCounts]:
         """The stations with inspections, the busiest first."""
         found = [StationCounts(sid, name, Counts(n, ok)) for sid, (name, (n, ok)) in self.stations.items()]
@@ -202,11 +226,15 @@ def _add_stored(
 ) -> None:
     """The closed days' stored counts (counted from the records first where missing)."""
     first, last = closed.first, closed.last
-    days = stored.closed_days(session, zone=zone, first=first, last=last)
-    if station_id is None:
-        for row in days:
+    issued = refusals = revoked = 0
+    for row in stored.closed_days(session, zone=zone, first=first, last=last):
+        if station_id is None:
             tally.add_day(row.day, row.inspections, row.compliant)
-    else:
+        issued += row.certificates_issued
+        refusals += row.refusals_issued
+        revoked += row.certificates_revoked
+    tally.add_certificates((issued, refusals, revoked))
+    if station_id is not None:
         for day, inspections, compliant in stored.stored_daily(
             session, zone=zone, first=first, last=last, station_id=station_id
         ):
@@ -215,9 +243,6 @@ def _add_stored(
         session, zone=zone, first=first, last=last, station_id=station_id
     ):
         tally.add_station(sid, name, inspections, compliant)
-    issued = sum(row.certificates_issued for row in days)
-    refusals = sum(row.refusals_issued for row in days)
-    tally.add_certificates((issued, refusals, sum(row.certificates_revoked for row in days)))
 
 
 def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:
@@ -239,15 +264,26 @@ def open_day_counts(
     """
     days = [period.first + timedelta(days=i) for i in range(period.days)]
     start, end = period.utc_bounds(zone)
-    later_days = [
-        (Inspection.created_at >= stored.day_bounds(days[i], zone)[0], i) for i in range(len(days) - 1, 0, -1)
-    ]
+    span: dict[str, Any] = {f"starts_{i}": stored.day_bounds(day, zone)[0] for i, day in enumerate(days)}
+    span |= {"start": start, "end": end, "station_id": station_id}
+    query = _open_days_query(days=len(days), one_station=station_id is not None)
+    rows = session.execute(query, span).all()
+    return [(days[int(number)], sid, name, Counts(int(n), int(ok))) for number, sid, name, n, ok in rows]
+
+
+# Built once per shape, with bound parameters: building the statement cost as much as running it.
+@lru_cache(maxsize=16)
+def _open_days_query(*, days: int, one_station: bool) -> Select[Any]:
+    """Inspections from `start` to `end` per day number (day i starts at `starts_i`) and station;
+    with `one_station`, at station `station_id` only."""
+    later_days = [(Inspection.created_at >= bindparam(f"starts_{i}"), i) for i in range(days - 1, 0, -1)]
     day_number = case(*later_days, else_=0) if later_days else literal(0)
+    in_period = (Inspection.created_at >= bindparam("start"), Inspection.created_at < bindparam("end"))
     inspections = select(
         day_number.label("day_number"), Inspection.station_id.label("station_id"), Inspection.compliant
-    ).where(Inspection.created_at >= start, Inspection.created_at < end)
-    if station_id is not None:
-        inspections = inspections.where(Inspection.station_id == station_id)
+    ).where(*in_period)
+    if one_station:
+        inspections = inspections.where(Inspection.station_id == bindparam("station_id"))
     each = inspections.subquery()
     counted = (
         select(
@@ -259,12 +295,9 @@ def open_day_counts(
         .group_by(each.c.day_number, each.c.station_id)
         .subquery()
     )
-    rows = session.execute(
-        select(counted.c.day_number, counted.c.station_id, Station.name, counted.c.n, counted.c.ok).outerjoin(
-            Station, Station.id == counted.c.station_id
-        )
-    ).all()
-    return [(days[int(number)], sid, name, Counts(int(n), int(ok))) for number, sid, name, n, ok in rows]
+    return select(
+        counted.c.day_number, counted.c.station_id, Station.name, counted.c.n, counted.c.ok
+    ).outerjoin(Station, Station.id == counted.c.station_id)
 
 
 def statistics(
@@ -289,10 +322,9 @@ def statistics(
     if first_open <= period.last:
         live = Period(first_open, period.last)
         _add_live(tally, session, live=live, zone=zone, station_id=station_id)
-    days = tally.day_counts()
-    total = Counts(sum(d.counts.inspections for d in days), sum(d.counts.compliant for d in days))
     issued, refusals, revoked = tally.certificates
-    return Statistics(period, total, days, tally.station_counts(), issued, refusals, revoked)
+    days, stations = tally.day_counts(), tally.station_counts()
+    return Statistics(period, tally.total(), days, stations, issued, refusals, revoked)
 
 
 def _busiest_first(station: StationCounts) -> tuple[int, bool, str]:

@@ -22,6 +22,7 @@ from typing import Any, cast
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
 from sqlalchemy import (
+    BindParameter,
     ColumnElement,
     Date,
     Row,
@@ -29,6 +30,7 @@ from sqlalchemy import (
     String,
     Table,
     and_,
+    bindparam,
     case,
     delete,
     func,
@@ -115,17 +117,28 @@ def _insert(session: Session) -> Any:
 
 
 def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
-    # The bounds read as numbers: turning a year's 732 time stamps into datetimes cost ten times the
-    # query. Fetched whole (.all()): row by row, the driver's per-row calls cost ten times the query.
+    # Fetched whole (.all()): row by row, the driver's per-row calls cost ten times the query.
+    query = _days_query(session.get_bind().dialect.name)
+    return list(session.execute(query, {"zone": name, "first": first, "last": last}).all())
+
+
+@lru_cache(maxsize=2)
+def _days_query(dialect: str) -> Select[Any]:
+    """Zone `zone`'s stored days from `first` to `last` (bound parameters), oldest first: each day, its
+    bounds as seconds since 1970 (turning a year's 732 time stamps into datetimes cost ten times the
+    query), its counts."""
     days = _DAY
-    starts = epoch_seconds(session, days.c.starts_at).label("starts")
-    ends = epoch_seconds(session, days.c.ends_at).label("ends")
-    query = (
+    starts = epoch_seconds(dialect, days.c.starts_at).label("starts")
+    ends = epoch_seconds(dialect, days.c.ends_at).label("ends")
+    return (
         select(days.c.day, starts, ends, *(days.c[count] for count in _COUNTS))
-        .where(days.c.zone == name, days.c.day >= first, days.c.day <= last)
+        .where(
+            days.c.zone == bindparam("zone"),
+            days.c.day >= bindparam("first"),
+            days.c.day <= bindparam("last"),
+        )
         .order_by(days.c.day)
     )
-    return list(session.execute(query).all())
 
 
 def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> int:
@@ -150,8 +163,10 @@ def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows
     """Count the days of the span missing from `rows`, or stored over other bounds; how many."""
     name = zone_name(zone)
     wanted = _bounds_in_seconds(first, last, zone)
-    stored = {row.day: (row.starts, row.ends) for row in rows}
-    stale = [day for day, bounds in stored.items() if wanted[day] != bounds]
+    stale = [row.day for row in rows if wanted[row.day] != (row.starts, row.ends)]
+    if len(rows) == len(wanted) and not stale:
+        return 0  # every day stored (one row a day), over the zone's bounds: a visit's usual case
+    stored = {row.day for row in rows}
     missing = [day for day in wanted if day not in stored or day in stale]
     counted = 0
     # A batch at a time: years of days in one statement would pass the drivers' limit on parameters.
@@ -274,26 +289,41 @@ def stored_stations(
     """
     name = zone_name(zone)
     months = _whole_months(first, last)
-    parts = [_day_rows(name, first, last)]
+    span = {"zone": name, "first": first, "last": last, "station_id": station_id}
     if months:
         _store_months(session, name, months)
-        covered_from, covered_until = months[0], _month_after(months[-1])
+        span["months_from"], span["months_until"] = months[0], _month_after(months[-1])
+        span["before_months"] = months[0] - timedelta(days=1)
+    query = _stations_query(whole_months=bool(months), one_station=station_id is not None)
+    return [
+        (None if station == NO_STATION else station, station_name, int(n), int(ok))
+        for station, station_name, n, ok in session.execute(query, span).all()
+    ]
+
+
+# Built once per shape, with bound parameters: building the statement cost more than running it.
+@lru_cache(maxsize=4)
+def _stations_query(*, whole_months: bool, one_station: bool) -> Select[Any]:
+    """The per-station sums of zone `zone`'s stored days `first` to `last`; with `whole_months`, the
+    months `months_from` up to `months_until` from their sums and only the days before
+    (`before_months`) and after from the days'; with `one_station`, station `station_id` only."""
+    parts = [_day_rows(bindparam("first"), bindparam("last"))]
+    if whole_months:
         # Three ranges apart: one OR would scan every day between them.
+        months = _MONTH_STATION
         parts = [
-            _day_rows(name, first, covered_from - timedelta(days=1)),
+            _day_rows(bindparam("first"), bindparam("before_months")),
             select(
-                _MONTH_STATION.c.station_id,
-                _MONTH_STATION.c.inspections.label("n"),
-                _MONTH_STATION.c.compliant.label("ok"),
+                months.c.station_id, months.c.inspections.label("n"), months.c.compliant.label("ok")
             ).where(
-                _MONTH_STATION.c.zone == name,
-                _MONTH_STATION.c.month >= covered_from,
-                _MONTH_STATION.c.month < covered_until,
+                months.c.zone == bindparam("zone"),
+                months.c.month >= bindparam("months_from"),
+                months.c.month < bindparam("months_until"),
             ),
-            _day_rows(name, covered_until, last),
+            _day_rows(bindparam("months_until"), bindparam("last")),
         ]
-    if station_id is not None:
-        parts = [part.where(part.selected_columns.station_id == station_id) for part in parts]
+    if one_station:
+        parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
     rows = union_all(*parts).subquery()
     # Summed first (one row per station), named after: the join meets 40 rows, not a year of days.
     per_station = (
@@ -301,19 +331,15 @@ def stored_stations(
         .group_by(rows.c.station_id)
         .subquery()
     )
-    query = select(per_station.c.station_id, Station.name, per_station.c.n, per_station.c.ok).outerjoin(
+    return select(per_station.c.station_id, Station.name, per_station.c.n, per_station.c.ok).outerjoin(
         Station, Station.id == per_station.c.station_id
     )
-    return [
-        (None if station == NO_STATION else station, name, int(n), int(ok))
-        for station, name, n, ok in session.execute(query).all()
-    ]
 
 
-def _day_rows(name: str, first: date, last: date) -> Select[Any]:
+def _day_rows(first: BindParameter[date], last: BindParameter[date]) -> Select[Any]:
     table = _DAY_STATION
     return select(table.c.station_id, table.c.inspections.label("n"), table.c.compliant.label("ok")).where(
-        _in_period(name, first, last)
+        _in_period(bindparam("zone"), first, last)
     )
 
 
@@ -335,9 +361,8 @@ def _whole_months(first: date, last: date) -> list[date]:
 def _store_months(session: Session, name: str, months: list[date]) -> None:
     """Store the per-station sums of the months not stored yet, from their days' (all stored), once:
     the month's row is claimed like a day's, and only the transaction that inserted it sums it."""
-    stored = set(
-        session.scalars(select(_MONTH.c.month).where(_MONTH.c.zone == name, _MONTH.c.month.in_(months)))
-    )
+    span = {"zone": name, "first": months[0], "last": months[-1]}
+    stored = set(session.scalars(_stored_months_query(), span))
     missing = [month for month in months if month not in stored]
     if not missing:
         return
@@ -361,7 +386,17 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
     session.commit()
 
 
-def _in_period(name: str, first: date, last: date) -> Any:
-    """The per-station day rows of zone `name` from `first` to `last`, both included."""
+@lru_cache(maxsize=1)
+def _stored_months_query() -> Select[Any]:
+    """The months of zone `zone` from `first` to `last` whose sums are stored."""
+    month = _MONTH.c.month
+    return select(month).where(
+        _MONTH.c.zone == bindparam("zone"), month >= bindparam("first"), month <= bindparam("last")
+    )
+
+
+def _in_period(name: str | BindParameter[str], first: date | Any, last: date | Any) -> Any:
+    """The per-station day rows of zone `name` from `first` to `last`, both included (values or
+    bound parameters)."""
     table = _DAY_STATION
     return and_(table.c.zone == name, table.c.day >= first, table.c.day <= last)
