@@ -50,6 +50,8 @@ PRIVILEGES: dict[str, str] = {
     "statistics_day_station": DISPOSABLE,
     "statistics_month": DISPOSABLE,
     "statistics_month_station": DISPOSABLE,
+    "statistics_hour": DISPOSABLE,  # and pruned once their days have closed
+    "statistics_hour_station": DISPOSABLE,
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

@@ -79,3 +79,25 @@ class StatisticsMonthStation(Base):
     station_id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=False)
     inspections: Mapped[int] = mapped_column(Integer)
     compliant: Mapped[int] = mapped_column(Integer)
+
+
+class StatisticsHour(Base):
+    """A closed whole UTC hour of the open days whose inspections are counted (by station, in
+    StatisticsHourStation), so today's counts add up its closed hours and count only the last ones
+    live. Zone-free: an hour is the same in every zone. Pruned once its days have long closed."""
+
+    __tablename__ = "statistics_hour"
+
+    starts_at: Mapped[datetime] = mapped_column(UTCDateTime(), primary_key=True)
+    ends_at: Mapped[datetime] = mapped_column(UTCDateTime())
+
+
+class StatisticsHourStation(Base):
+    """A counted hour's inspections at one station (NO_STATION: the officers' pages); none: no row."""
+
+    __tablename__ = "statistics_hour_station"
+
+    starts_at: Mapped[datetime] = mapped_column(UTCDateTime(), primary_key=True)
+    station_id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=False)
+    inspections: Mapped[int] = mapped_column(Integer)
+    compliant: Mapped[int] = mapped_column(Integer)

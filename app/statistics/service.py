@@ -30,6 +30,7 @@ from sqlalchemy import (
     func,
     literal,
     select,
+    union_all,
 )
 from sqlalchemy.orm import Session
 
@@ -37,7 +38,8 @@ from app.certificates.models import Certificate, CertificateRevocation
 from app.db import epoch_seconds, utcnow
 from app.inspections.models import Inspection
 from app.stations.models import Station
-from app.statistics import stored
+from app.statistics import hours, stored
+from app.statistics.models import NO_STATION, StatisticsHourStation
 
 BUCKET_SECONDS = 900  # a quarter hour: every time zone's offset is a whole number of them
 MAX_DAYS = 366
@@ -245,54 +247,89 @@ def _add_stored(
         tally.add_station(sid, name, inspections, compliant)
 
 
-def _add_live(tally: _Tally, session: Session, *, live: Period, zone: tzinfo, station_id: int | None) -> None:
-    """The open days counted from the records."""
-    for day, sid, name, counts in open_day_counts(session, period=live, zone=zone, station_id=station_id):
+def _add_live(
+    tally: _Tally,
+    session: Session,
+    *,
+    live: Period,
+    zone: tzinfo,
+    station_id: int | None,
+    now: datetime | None,
+) -> None:
+    """The open days counted from the records (and their closed hours' stored counts)."""
+    counted = open_day_counts(session, period=live, zone=zone, station_id=station_id, now=now)
+    for day, sid, name, counts in counted:
         tally.add_day(day, counts.inspections, counts.compliant)
         tally.add_station(sid, name, counts.inspections, counts.compliant)
     tally.add_certificates(certificate_counts(session, period=live, zone=zone))
 
 
 def open_day_counts(
-    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
+    session: Session,
+    *,
+    period: Period,
+    zone: tzinfo,
+    station_id: int | None = None,
+    now: datetime | None = None,
 ) -> list[tuple[date, int | None, str | None, Counts]]:
     """(day, station id, station name, counts) for each local day and station of a short period
-    (the open days: one or two), from one scan of the records.
+    (the open days: one or two), in one statement: the whole UTC hours closed at `now` (default:
+    the current time) from their stored counts (stored here first where missing), the rest live.
 
-    Each inspection's day is told by comparing its time with the UTC starts of the period's days,
-    worked out in Python, so the database needs no time-zone support.
+    Each inspection's (and hour's) day is told by comparing its time with the UTC starts of the
+    period's days, worked out in Python, so the database needs no time-zone support.
     """
     days = [period.first + timedelta(days=i) for i in range(period.days)]
     start, end = period.utc_bounds(zone)
+    hours_from, hours_until = hours.closed_hours(start, end, now or utcnow())
+    hours.store_hours(session, hours_from, hours_until)
     span: dict[str, Any] = {f"starts_{i}": stored.day_bounds(day, zone)[0] for i, day in enumerate(days)}
-    span |= {"start": start, "end": end, "station_id": station_id}
+    span |= {"start": start, "hours_from": hours_from, "hours_until": hours_until, "end": end}
     query = _open_days_query(days=len(days), one_station=station_id is not None)
-    rows = session.execute(query, span).all()
-    return [(days[int(number)], sid, name, Counts(int(n), int(ok))) for number, sid, name, n, ok in rows]
+    rows = session.execute(query, span | {"station_id": station_id}).all()
+    return [
+        (days[int(number)], None if sid == NO_STATION else sid, name, Counts(int(n), int(ok)))
+        for number, sid, name, n, ok in rows
+    ]
 
 
 # Built once per shape, with bound parameters: building the statement cost as much as running it.
 @lru_cache(maxsize=16)
 def _open_days_query(*, days: int, one_station: bool) -> Select[Any]:
-    """Inspections from `start` to `end` per day number (day i starts at `starts_i`) and station;
-    with `one_station`, at station `station_id` only."""
-    later_days = [(Inspection.created_at >= bindparam(f"starts_{i}"), i) for i in range(days - 1, 0, -1)]
-    day_number = case(*later_days, else_=0) if later_days else literal(0)
-    in_period = (Inspection.created_at >= bindparam("start"), Inspection.created_at < bindparam("end"))
-    inspections = select(
-        day_number.label("day_number"), Inspection.station_id.label("station_id"), Inspection.compliant
-    ).where(*in_period)
+    """Inspections from `start` to `end` per day number (day i starts at `starts_i`) and station:
+    the stored hours from `hours_from` up to `hours_until`, the rest from the records; with
+    `one_station`, at station `station_id` only."""
+
+    def day_number(moment: Any) -> Any:
+        later_days = [(moment >= bindparam(f"starts_{i}"), i) for i in range(days - 1, 0, -1)]
+        return case(*later_days, else_=0) if later_days else literal(0)
+
+    def live(since: str, until: str) -> Select[Any]:
+        at = Inspection.created_at
+        return select(
+            day_number(at).label("day_number"),
+            func.coalesce(Inspection.station_id, NO_STATION).label("station_id"),
+            literal(1).label("n"),
+            case((Inspection.compliant, 1), else_=0).label("ok"),
+        ).where(at >= bindparam(since), at < bindparam(until))
+
+    hour = StatisticsHourStation
+    closed_hours = select(
+        day_number(hour.starts_at), hour.station_id, hour.inspections, hour.compliant
+    ).where(hour.starts_at >= bindparam("hours_from"), hour.starts_at < bindparam("hours_until"))
+    # Three ranges apart: one OR would scan the stored hours' inspections too.
+    parts = [live("start", "hours_from"), closed_hours, live("hours_until", "end")]
     if one_station:
-        inspections = inspections.where(Inspection.station_id == bindparam("station_id"))
-    each = inspections.subquery()
+        parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
+    rows = union_all(*parts).subquery()
     counted = (
         select(
-            each.c.day_number,
-            each.c.station_id,
-            func.count().label("n"),
-            stored.compliant_count(each.c.compliant).label("ok"),
+            rows.c.day_number,
+            rows.c.station_id,
+            func.sum(rows.c.n).label("n"),
+            func.sum(rows.c.ok).label("ok"),
         )
-        .group_by(each.c.day_number, each.c.station_id)
+        .group_by(rows.c.day_number, rows.c.station_id)
         .subquery()
     )
     return select(
@@ -310,10 +347,12 @@ def statistics(
 ) -> Statistics:
     """The counts of a period: per day, per station, in total, and the certificates issued and revoked.
 
-    The closed days come from their stored counts, the open ones are counted live; `now` (default:
-    the current time) decides which days are closed.
+    The closed days come from their stored counts, the open ones are counted live (but for their
+    closed hours' stored counts); `now` (default: the current time) decides which days and hours
+    are closed.
     """
-    last_closed = min(period.last, stored.last_closed_day(zone, now or utcnow()))
+    now = now or utcnow()
+    last_closed = min(period.last, stored.last_closed_day(zone, now))
     first_open = max(period.first, last_closed + timedelta(days=1))
     tally = _Tally(period)
     if period.first <= last_closed:
@@ -321,7 +360,7 @@ def statistics(
         _add_stored(tally, session, closed=closed, zone=zone, station_id=station_id)
     if first_open <= period.last:
         live = Period(first_open, period.last)
-        _add_live(tally, session, live=live, zone=zone, station_id=station_id)
+        _add_live(tally, session, live=live, zone=zone, station_id=station_id, now=now)
     issued, refusals, revoked = tally.certificates
     days, stations = tally.day_counts(), tally.station_counts()
     return Statistics(period, tally.total(), days, stations, issued, refusals, revoked)

@@ -112,7 +112,8 @@ def _days(first: date, last: date) -> list[date]:
     return [first + timedelta(days=i) for i in range((last - first).days + 1)]
 
 
-def _insert(session: Session) -> Any:
+def insert_for(session: Session) -> Any:
+    """The dialect's INSERT, which has ON CONFLICT DO NOTHING, for the session's database."""
     return postgresql.insert if session.get_bind().dialect.name == "postgresql" else sqlite.insert
 
 
@@ -190,7 +191,7 @@ def _count_batch(
         for table in (_MONTH_STATION, _MONTH):
             session.execute(delete(table).where(table.c.zone == name, table.c.month.in_(months)))
     zero = dict.fromkeys(_COUNTS, 0)
-    claim = _insert(session)(_DAY).values(
+    claim = insert_for(session)(_DAY).values(
         [
             {"zone": name, "day": day, "starts_at": start, "ends_at": end, **zero}
             for day, (start, end) in bounds.items()
@@ -367,7 +368,7 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
     if not missing:
         return
     begin_write(session)
-    claim = _insert(session)(_MONTH).values([{"zone": name, "month": month} for month in missing])
+    claim = insert_for(session)(_MONTH).values([{"zone": name, "month": month} for month in missing])
     for month in session.scalars(claim.on_conflict_do_nothing().returning(_MONTH.c.month)).all():
         days = _DAY_STATION
         sums = (

@@ -23,7 +23,15 @@ from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import Rules, WheelReadings
 from app.stations.models import Station
 from app.stations.service import create_station
-from app.statistics.models import StatisticsDay, StatisticsDayStation, StatisticsMonth, StatisticsMonthStation
+from app.statistics.hours import store_hours
+from app.statistics.models import (
+    StatisticsDay,
+    StatisticsDayStation,
+    StatisticsHour,
+    StatisticsHourStation,
+    StatisticsMonth,
+    StatisticsMonthStation,
+)
 from app.statistics.service import (
     Period,
     Statistics,
@@ -345,3 +353,117 @@ def test_concurrent_visits_sum_each_month_once(session: Session) -> None:
     )
     assert session.scalar(month_rows) == 2, "February and March, each stored once"
     same(statistics(session, period=period, zone=KOLKATA, now=AFTER_THE_MONTHS), expected)
+
+
+# Hours: the open days' closed whole UTC hours are stored; the rest of the open days is counted live.
+HOURS_MOMENTS = [
+    at(8, 18, 29),  # 23:59 on 8 March in Kolkata
+    at(8, 18, 30),  # 00:00 on 9 March in Kolkata
+    at(8, 23, 0),  # 00:00 on 9 March in Lagos
+    at(9, 0, 0),
+    at(9, 3, 59),  # 23:59 on 8 March in New York (EDT)
+    at(9, 4, 0),  # 00:00 on 9 March in New York
+    at(9, 9, 59),
+    at(9, 10, 0),
+    at(9, 10, 1),
+    at(9, 16, 45),
+    at(9, 17, 59),  # in the last hour closed at 19:10
+]
+
+
+def hours_expected(zone: tzinfo, now: datetime) -> list[datetime]:
+    """The whole UTC hours of the open days closed an hour before `now`, found hour by hour, apart
+    from the service's arithmetic."""
+    first_open = (now - timedelta(hours=1)).astimezone(zone).date()
+    start = datetime.combine(first_open, datetime.min.time(), tzinfo=zone).astimezone(UTC)
+    hour, whole = start.replace(minute=0, second=0, microsecond=0), []
+    while hour + timedelta(hours=2) <= now:
+        if hour >= start:
+            whole.append(hour)
+        hour += timedelta(hours=1)
+    return whole
+
+
+def stored_hours(session: Session) -> list[datetime]:
+    return list(session.scalars(select(StatisticsHour.starts_at).order_by(StatisticsHour.starts_at)))
+
+
+@pytest.mark.parametrize("zone", [LAGOS, NEW_YORK, KOLKATA, UTC], ids=str)
+def test_the_open_days_closed_hours_are_stored_once_and_agree_with_a_full_count(
+    session: Session, store: Store, zone: tzinfo
+) -> None:
+    agbara, _ = create_station(session, name="Agbara weighbridge")
+    for i, moment in enumerate(HOURS_MOMENTS):
+        store(moment, compliant=i % 3 != 1, station=(agbara, None)[i % 2])
+    period = Period(date(2026, 3, 7), date(2026, 3, 10))
+    now = at(9, 19, 10)
+
+    first_visit = statistics(session, period=period, zone=zone, now=now)
+    same(first_visit, full_count(session, period, zone))
+    assert stored_hours(session) == hours_expected(zone, now)
+    assert len(stored_hours(session)) > 10
+    assert statistics(session, period=period, zone=zone, now=now) == first_visit
+    assert stored_hours(session) == hours_expected(zone, now), "each hour stored once"
+
+    store(at(9, 18, 50), compliant=True, station=agbara)  # committed late, in an hour not closed yet
+    store(at(9, 19, 5), compliant=False)
+    same(statistics(session, period=period, zone=zone, now=now), full_count(session, period, zone))
+
+    an_hour_later = at(9, 20, 10)
+    found = statistics(session, period=period, zone=zone, now=an_hour_later)
+    same(found, full_count(session, period, zone))
+    assert set(hours_expected(zone, an_hour_later)) <= set(stored_hours(session)), "closed at 20:00"
+    for station in (agbara.id,):
+        by_station = statistics(session, period=period, zone=zone, station_id=station, now=an_hour_later)
+        same(by_station, full_count(session, period, zone, station_id=station))
+
+
+@pytest.mark.parametrize("zone", [LAGOS, KOLKATA], ids=str)
+def test_the_first_hour_after_midnight_two_open_days(session: Session, store: Store, zone: tzinfo) -> None:
+    for i, moment in enumerate(HOURS_MOMENTS):
+        store(moment, compliant=i % 2 == 0)
+    local_midnight = datetime.combine(date(2026, 3, 10), datetime.min.time(), tzinfo=zone).astimezone(UTC)
+    store(local_midnight - timedelta(minutes=20), compliant=True)  # yesterday, in the hour not closed
+    store(local_midnight + timedelta(minutes=10), compliant=False)  # today
+    period = Period(date(2026, 3, 8), date(2026, 3, 10))
+    now = local_midnight + timedelta(minutes=40)
+
+    found = statistics(session, period=period, zone=zone, now=now)
+
+    same(found, full_count(session, period, zone))
+    assert stored_hours(session) == hours_expected(zone, now)
+    assert [d.counts.inspections for d in found.days][-1] == 1
+
+
+@pytest.mark.usefixtures("history")
+def test_hours_long_closed_are_pruned(session: Session) -> None:
+    statistics(session, period=Period(date(2026, 3, 5), date(2026, 3, 6)), zone=UTC, now=at(6, 12))
+    assert len(stored_hours(session)) == 11
+    statistics(session, period=Period(date(2026, 3, 9), date(2026, 3, 9)), zone=UTC, now=at(9, 6))
+
+    assert stored_hours(session)[0] == at(9, 0), (
+        "the hours of 6 March pruned once the hours of 9 March are stored"
+    )
+    assert session.scalar(select(func.min(StatisticsHourStation.starts_at))) >= at(9, 0)
+
+
+@pytest.mark.usefixtures("history")
+def test_concurrent_visits_store_each_hour_once(session: Session) -> None:
+    start = threading.Barrier(4)
+    counted: list[int] = []
+
+    def visit() -> None:
+        with db.get_sessionmaker()() as own:
+            start.wait()
+            counted.append(store_hours(own, at(6, 0), at(6, 23)))
+
+    threads = [threading.Thread(target=visit) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+
+    assert sorted(counted) == [0, 0, 0, 23]
+    assert len(stored_hours(session)) == 23
+    period = Period(date(2026, 3, 6), date(2026, 3, 6))
+    same(statistics(session, period=period, zone=UTC, now=at(7, 0, 30)), full_count(session, period, UTC))
