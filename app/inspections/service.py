@@ -256,39 +256,44 @@ def list_inspections(
     # filter names it; a vehicle's history is then read from its index alone), and only the chosen
     # rows are joined to their vehicle and station: a deep page skips its offset without a vehicle
     # look-up for every row it skips.
-    chosen = _from_inspections(
-        select(
-            Inspection.id,
-            Inspection.created_at,
-            Inspection.compliant,
-            Inspection.max_compliant_occupants,
-            Inspection.vehicle_id,
-            Inspection.station_id,
-        ),
-        where,
-    )
+    columns: list[Any] = [
+        Inspection.id,
+        Inspection.created_at,
+        Inspection.compliant,
+        Inspection.max_compliant_occupants,
+        Inspection.vehicle_id,
+        Inspection.station_id,
+    ]
+    # A vehicle's history (a few hundred rows at most) is counted by the scan that reads its page.
+    counted_with_page = bool(where.registration_number)
+    if counted_with_page:
+        columns.append(func.count().over().label("total"))
     chosen_rows = (
-        chosen.where(*conditions)
+        _from_inspections(select(*columns), where)
+        .where(*conditions)
         .order_by(Inspection.created_at.desc(), Inspection.id.desc())
         .limit(limit)
         .offset(offset)
         .subquery()
     )
+    shown = [
+        chosen_rows.c.id,
+        chosen_rows.c.created_at,
+        chosen_rows.c.compliant,
+        chosen_rows.c.max_compliant_occupants,
+        Vehicle.registration_number,
+        Vehicle.registration_key,
+        Station.name,
+    ]
     page = session.execute(
-        select(
-            chosen_rows.c.id,
-            chosen_rows.c.created_at,
-            chosen_rows.c.compliant,
-            chosen_rows.c.max_compliant_occupants,
-            Vehicle.registration_number,
-            Vehicle.registration_key,
-            Station.name,
-        )
+        select(*shown, *([chosen_rows.c.total] if counted_with_page else []))
         .join(Vehicle, Vehicle.id == chosen_rows.c.vehicle_id)
         .outerjoin(Station, Station.id == chosen_rows.c.station_id)
         .order_by(chosen_rows.c.created_at.desc(), chosen_rows.c.id.desc())
-    )
-    listed = [ListedInspection(*row) for row in page]
+    ).all()
+    listed = [ListedInspection(*row[: len(shown)]) for row in page]
+    if counted_with_page and page:
+        return listed, int(page[0].total)
     return listed, _count(session, where, conditions, now=utcnow())
 
 
