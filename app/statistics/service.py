@@ -2,10 +2,12 @@
 
 Days are calendar days in the officers' zone. Closed days are read from their stored counts
 (app/statistics/stored.py: taken once from the records, which never change for a day that has
-ended), so a year costs the same at any size of the history; only the open days (today, and
-yesterday during the first hour after midnight) are counted live from the records.
+ended), so a year costs the same at any size of the history. The open days (today, and yesterday
+during the first hour after midnight) add up their closed UTC hours' stored counts
+(app/statistics/hours.py) and count only the rest live from the records: the last one to two
+hours, and in zones with a half-hour offset the day's first half hour.
 
-Counting live, the database groups the inspections by the quarter hour (UTC) they were made in,
+Counting a whole period live (the full count), the database groups the inspections by the quarter hour (UTC) they were made in,
 which needs no time-zone support from SQLite; each quarter hour then falls on one local day in
 Python, so a zone's daylight-saving changes and half-hour offsets are respected. That is at most 96
 groups a day, read through the index on `created_at`. The same functions are the full count the
