@@ -7,11 +7,11 @@ during the first hour after midnight) add up their closed UTC hours' stored coun
 (app/statistics/hours.py) and count only the rest live from the records: the last one to two
 hours, and in zones with a half-hour offset the day's first half hour.
 
-Counting a whole period live (the full count), the database groups the inspections by the quarter hour (UTC) they were made in,
-which needs no time-zone support from SQLite; each quarter hour then falls on one local day in
-Python, so a zone's daylight-saving changes and half-hour offsets are respected. That is at most 96
-groups a day, read through the index on `created_at`. The same functions are the full count the
-stored counts are tested against.
+Counting a whole period live (the full count), the database groups the inspections by the quarter
+hour (UTC) they were made in, which needs no time-zone support from SQLite; each quarter hour then
+falls on one local day in Python, so a zone's daylight-saving changes and half-hour offsets are
+respected. That is at most 96 groups a day, read through the index on `created_at`. The same
+functions are the full count the stored counts are tested against.
 """
 
 from __future__ import annotations
