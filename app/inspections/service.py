@@ -6,9 +6,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
+from functools import lru_cache
 from typing import Any, TypeVar
 
-from sqlalchemy import ColumnElement, Select, func, select
+from sqlalchemy import ColumnElement, Select, bindparam, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write, utcnow
@@ -249,9 +250,55 @@ def list_inspections(
     The page reads only the columns a list shows (no inspection, vehicle or station is loaded as
     an object); the count is `count_inspections`.
     """
-    conditions = _conditions(where)
-    if conditions is None:
+    values = _filter_values(where)
+    if values is None:
         return [], 0
+    names = tuple(values)
+    page = session.execute(_page_query(names), values | {"limit": limit, "offset": offset}).all()
+    listed = [ListedInspection(*row[:_SHOWN]) for row in page]
+    if _counted_with_page(names) and page:
+        return listed, int(page[0].total)
+    return listed, _count(session, where, values, now=utcnow())
+
+
+def count_inspections(session: Session, *, where: InspectionFilter, now: datetime | None = None) -> int:
+    """How many inspections match the filter.
+
+    A vehicle's are counted from the records (a few hundred at most). Otherwise the closed days the
+    period covers whole come from their stored counts and only its ends are counted
+    (app/statistics/matching.py), so the count costs the same at any size of the history.
+    """
+    values = _filter_values(where)
+    return 0 if values is None else _count(session, where, values, now=now or utcnow())
+
+
+def _count(session: Session, where: InspectionFilter, values: dict[str, Any], *, now: datetime) -> int:
+    names = tuple(values)
+    if where.registration_number:
+        query = _from_inspections(select(func.count()).select_from(Inspection), names)
+        return int(session.scalar(query.where(*_conditions(names)), values) or 0)
+    return count_matching(
+        session,
+        conditions=_conditions(names),
+        values=values,
+        since=where.since,
+        until=where.until,
+        compliant=where.compliant,
+        station_id=where.station_id,
+        zone=stored_zone(),
+        now=now,
+    )
+
+
+_SHOWN = 7  # the page's columns that make a ListedInspection
+
+
+# Built once per filter shape (which values it has), on bound parameters: building the statement
+# cost a vehicle's history as much as running it.
+@lru_cache(maxsize=64)
+def _page_query(names: tuple[str, ...]) -> Select[Any]:
+    """A page (`limit` rows after `offset`) of the inspections matching the filter values `names`,
+    newest first, with the columns of a ListedInspection and, for a vehicle's history, `total`."""
     # The page's rows are chosen from the inspections alone (joined to the vehicle only when the
     # filter names it; a vehicle's history is then read from its index alone), and only the chosen
     # rows are joined to their vehicle and station: a deep page skips its offset without a vehicle
@@ -264,16 +311,14 @@ def list_inspections(
         Inspection.vehicle_id,
         Inspection.station_id,
     ]
-    # A vehicle's history (a few hundred rows at most) is counted by the scan that reads its page.
-    counted_with_page = bool(where.registration_number)
-    if counted_with_page:
+    if _counted_with_page(names):
         columns.append(func.count().over().label("total"))
     chosen_rows = (
-        _from_inspections(select(*columns), where)
-        .where(*conditions)
+        _from_inspections(select(*columns), names)
+        .where(*_conditions(names))
         .order_by(Inspection.created_at.desc(), Inspection.id.desc())
-        .limit(limit)
-        .offset(offset)
+        .limit(bindparam("limit"))
+        .offset(bindparam("offset"))
         .subquery()
     )
     shown = [
@@ -285,70 +330,58 @@ def list_inspections(
         Vehicle.registration_key,
         Station.name,
     ]
-    page = session.execute(
-        select(*shown, *([chosen_rows.c.total] if counted_with_page else []))
+    return (
+        select(*shown, *([chosen_rows.c.total] if _counted_with_page(names) else []))
         .join(Vehicle, Vehicle.id == chosen_rows.c.vehicle_id)
         .outerjoin(Station, Station.id == chosen_rows.c.station_id)
         .order_by(chosen_rows.c.created_at.desc(), chosen_rows.c.id.desc())
-    ).all()
-    listed = [ListedInspection(*row[: len(shown)]) for row in page]
-    if counted_with_page and page:
-        return listed, int(page[0].total)
-    return listed, _count(session, where, conditions, now=utcnow())
-
-
-def count_inspections(session: Session, *, where: InspectionFilter, now: datetime | None = None) -> int:
-    """How many inspections match the filter.
-
-    A vehicle's are counted from the records (a few hundred at most). Otherwise the closed days the
-    period covers whole come from their stored counts and only its ends are counted
-    (app/statistics/matching.py), so the count costs the same at any size of the history.
-    """
-    conditions = _conditions(where)
-    return 0 if conditions is None else _count(session, where, conditions, now=now or utcnow())
-
-
-def _count(
-    session: Session, where: InspectionFilter, conditions: list[ColumnElement[bool]], *, now: datetime
-) -> int:
-    if where.registration_number:
-        query = _from_inspections(select(func.count()).select_from(Inspection), where)
-        return int(session.scalar(query.where(*conditions)) or 0)
-    return count_matching(
-        session,
-        conditions=conditions,
-        since=where.since,
-        until=where.until,
-        compliant=where.compliant,
-        station_id=where.station_id,
-        zone=stored_zone(),
-        now=now,
     )
+
+
+def _counted_with_page(names: tuple[str, ...]) -> bool:
+    """A vehicle's history (a few hundred rows at most) is counted by the scan that reads its page."""
+    return "registration_key" in names
 
 
 _Query = TypeVar("_Query", bound="Select[*tuple[Any, ...]]")
 
 
-def _from_inspections(query: _Query, where: InspectionFilter) -> _Query:
+def _from_inspections(query: _Query, names: tuple[str, ...]) -> _Query:
     """The query on inspections, with their vehicle joined when the filter names one (its condition
     is on the vehicle)."""
-    return query.join(Vehicle, Vehicle.id == Inspection.vehicle_id) if where.registration_number else query
+    return query.join(Vehicle, Vehicle.id == Inspection.vehicle_id) if "registration_key" in names else query
 
 
-def _conditions(where: InspectionFilter) -> list[ColumnElement[bool]] | None:
-    """The filter as SQL conditions on inspection (and vehicle); None when nothing can match."""
-    conditions: list[ColumnElement[bool]] = []
+def _filter_values(where: InspectionFilter) -> dict[str, Any] | None:
+    """The values the filter sets, by the name of their bound parameter; None when nothing can match."""
+    values: dict[str, Any] = {}
     if where.registration_number:
         key = normalise_registration(where.registration_number)
         if not valid_key(key):  # no vehicle has it; and PostgreSQL cannot even compare a NUL
             return None
-        conditions.append(Vehicle.registration_key == key)
+        values["registration_key"] = key
     if where.compliant is not None:
-        conditions.append(Inspection.compliant == where.compliant)
+        values["compliant"] = where.compliant
     if where.station_id is not None:
-        conditions.append(Inspection.station_id == where.station_id)
+        values["station_id"] = where.station_id
     if where.since is not None:
-        conditions.append(Inspection.created_at >= where.since)
+        values["since"] = where.since
     if where.until is not None:
-        conditions.append(Inspection.created_at < where.until)
-    return conditions
+        values["until"] = where.until
+    return values
+
+
+_CONDITIONS: dict[str, Callable[[], ColumnElement[bool]]] = {
+    "registration_key": lambda: Vehicle.registration_key == bindparam("registration_key"),
+    "compliant": lambda: Inspection.compliant == bindparam("compliant"),
+    "station_id": lambda: Inspection.station_id == bindparam("station_id"),
+    "since": lambda: Inspection.created_at >= bindparam("since"),
+    "until": lambda: Inspection.created_at < bindparam("until"),
+}
+
+
+@lru_cache(maxsize=64)
+def _conditions(names: tuple[str, ...]) -> tuple[ColumnElement[bool], ...]:
+    """The SQL conditions on inspection (and vehicle) of the filter values `names`, on bound
+    parameters of the same names."""
+    return tuple(_CONDITIONS[name]() for name in names)

@@ -10,8 +10,9 @@ over the rest of the period.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from datetime import date, datetime, timedelta, tzinfo
+from typing import Any
 
 from sqlalchemy import ColumnElement, func, select
 from sqlalchemy.orm import Session
@@ -28,6 +29,7 @@ def count_matching(
     session: Session,
     *,
     conditions: Sequence[ColumnElement[bool]],
+    values: Mapping[str, Any],
     since: datetime | None,
     until: datetime | None,
     compliant: bool | None,
@@ -35,7 +37,8 @@ def count_matching(
     zone: tzinfo,
     now: datetime,
 ) -> int:
-    """How many inspections match `conditions` (the filter's, its period included).
+    """How many inspections match `conditions` (the filter's, its period included, on bound
+    parameters given by `values`).
 
     `since`, `until`, `compliant` and `station_id` are the filter's own, for the stored days;
     `zone` is the one whose days are stored (the display zone), `now` decides which are closed.
@@ -48,14 +51,14 @@ def count_matching(
     start = first_inspection if since is None else max(since, first_inspection)
     days = _whole_closed_days(start, until, zone, now)
     if days is None:
-        return _count_live(session, conditions)
+        return _count_live(session, conditions, values)
     first, last = days
     covered_from, _ = stored.day_bounds(first, zone)
     _, covered_until = stored.day_bounds(last, zone)
     stored.count_closed_days(session, zone=zone, first=first, last=last)
     # The two ends apart: each is a short range of the created_at index (one OR would scan between).
-    before = _count_live(session, [*conditions, Inspection.created_at < covered_from])
-    after = _count_live(session, [*conditions, Inspection.created_at >= covered_until])
+    before = _count_live(session, [*conditions, Inspection.created_at < covered_from], values)
+    after = _count_live(session, [*conditions, Inspection.created_at >= covered_until], values)
     return before + _stored_sum(session, zone, first, last, compliant, station_id) + after
 
 
@@ -99,5 +102,8 @@ def _stored_sum(
     return int(complying) if compliant else int(inspections) - int(complying)
 
 
-def _count_live(session: Session, conditions: Sequence[ColumnElement[bool]]) -> int:
-    return int(session.scalar(select(func.count()).select_from(Inspection).where(*conditions)) or 0)
+def _count_live(
+    session: Session, conditions: Sequence[ColumnElement[bool]], values: Mapping[str, Any]
+) -> int:
+    query = select(func.count()).select_from(Inspection).where(*conditions)
+    return int(session.scalar(query, dict(values)) or 0)
