@@ -9,6 +9,7 @@ import threading
 from collections.abc import Callable
 from datetime import UTC, date, datetime, timedelta, tzinfo
 from decimal import Decimal
+from typing import TypeVar
 from zoneinfo import ZoneInfo
 
 import pytest
@@ -51,6 +52,7 @@ PERIOD = Period(date(2026, 3, 4), date(2026, 3, 12))
 AFTER_THE_PERIOD = datetime(2026, 3, 20, tzinfo=UTC)
 
 Store = Callable[..., int]
+T = TypeVar("T")
 
 
 @pytest.fixture
@@ -139,6 +141,24 @@ def same(found: Statistics, expected: Statistics) -> None:
     assert counts == (expected.certificates_issued, expected.refusals_issued, expected.certificates_revoked)
 
 
+def together(visit: Callable[[Session], T], times: int = 4) -> list[T]:
+    """What `visit` returns when run at once in `times` threads, each with a session of its own."""
+    start = threading.Barrier(times)
+    results: list[T] = []
+
+    def run() -> None:
+        with db.get_sessionmaker()() as own:
+            start.wait()
+            results.append(visit(own))
+
+    threads = [threading.Thread(target=run) for _ in range(times)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    return results
+
+
 def stored_days(session: Session, zone: tzinfo) -> int:
     return session.scalar(select(func.count()).where(StatisticsDay.zone == zone_name(zone))) or 0
 
@@ -203,19 +223,9 @@ def test_across_a_change_of_zone(session: Session) -> None:
 
 @pytest.mark.usefixtures("history")
 def test_concurrent_requests_store_each_day_once(engine: Engine, session: Session) -> None:
-    counted: list[int] = []
-    start = threading.Barrier(4)
-
-    def visit() -> None:
-        with db.get_sessionmaker()() as own:
-            start.wait()
-            counted.append(count_closed_days(own, zone=NEW_YORK, first=PERIOD.first, last=PERIOD.last))
-
-    threads = [threading.Thread(target=visit) for _ in range(4)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
+    counted = together(
+        lambda own: count_closed_days(own, zone=NEW_YORK, first=PERIOD.first, last=PERIOD.last)
+    )
 
     assert sum(counted) == PERIOD.days
     same(
@@ -330,19 +340,7 @@ def test_a_month_with_a_day_counted_again_is_summed_again(session: Session, owne
 def test_concurrent_visits_sum_each_month_once(session: Session) -> None:
     period = MONTHS_PERIODS[0]
     count_closed_days(session, zone=KOLKATA, first=period.first, last=period.last)
-    start = threading.Barrier(4)
-    found: list[Statistics] = []
-
-    def visit() -> None:
-        with db.get_sessionmaker()() as own:
-            start.wait()
-            found.append(statistics(own, period=period, zone=KOLKATA, now=AFTER_THE_MONTHS))
-
-    threads = [threading.Thread(target=visit) for _ in range(4)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
+    found = together(lambda own: statistics(own, period=period, zone=KOLKATA, now=AFTER_THE_MONTHS))
 
     expected = full_count(session, period, KOLKATA)
     assert len(found) == 4
@@ -451,19 +449,7 @@ def test_hours_long_closed_are_pruned(session: Session) -> None:
 
 @pytest.mark.usefixtures("history")
 def test_concurrent_visits_store_each_hour_once(session: Session) -> None:
-    start = threading.Barrier(4)
-    counted: list[int] = []
-
-    def visit() -> None:
-        with db.get_sessionmaker()() as own:
-            start.wait()
-            counted.append(store_hours(own, at(6, 0), at(6, 23)))
-
-    threads = [threading.Thread(target=visit) for _ in range(4)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
+    counted = together(lambda own: store_hours(own, at(6, 0), at(6, 23)))
 
     assert sorted(counted) == [0, 0, 0, 23]
     assert len(stored_hours(session)) == 23
