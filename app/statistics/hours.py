@@ -13,26 +13,26 @@ that began two days before the hours being stored are pruned then.
 from __future__ import annotations
 
 from datetime import UTC, datetime, timedelta
-from typing import Any, cast
+from typing import cast
 
-from sqlalchemy import Table, and_, delete, func, select
+from sqlalchemy import Table, delete, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write
-from app.inspections.models import Inspection
-from app.statistics.models import NO_STATION, StatisticsHour, StatisticsHourStation
-from app.statistics.stored import CLOSED_AFTER, compliant_count, insert_for
+from app.statistics.models import StatisticsHour, StatisticsHourStation
+from app.statistics.stored import CLOSED_AFTER, claim, count_per_station
 
 HOUR = timedelta(hours=1)
 KEPT_FOR = timedelta(days=2)
 _HOUR = cast(Table, StatisticsHour.__table__)
 _HOUR_STATION = cast(Table, StatisticsHourStation.__table__)
-_INSPECTION = cast(Table, Inspection.__table__)
 
 
 def closed_hours(start: datetime, end: datetime, now: datetime) -> tuple[datetime, datetime]:
     """The whole UTC hours within [start, end) closed at `now`, as [first, until) (empty: equal)."""
-    first = _hour_of(start) if start == _hour_of(start) else _hour_of(start) + HOUR
+    first = _hour_of(start)
+    if first < start:
+        first += HOUR
     until = min(_hour_of(end), _hour_of(now - CLOSED_AFTER))
     return first, max(first, until)
 
@@ -55,23 +55,8 @@ def store_hours(session: Session, first: datetime, until: datetime) -> int:
     for table in (_HOUR_STATION, _HOUR):
         session.execute(delete(table).where(table.c.starts_at < first - KEPT_FOR))
     hours = [first + i * HOUR for i in range(wanted)]
-    claim = insert_for(session)(_HOUR).values([{"starts_at": h, "ends_at": h + HOUR} for h in hours])
-    claimed = list(session.scalars(claim.on_conflict_do_nothing().returning(_HOUR.c.starts_at)))
+    claimed = claim(session, _HOUR, [{"starts_at": h, "ends_at": h + HOUR} for h in hours], _HOUR.c.starts_at)
     if claimed:
-        _count_inspections(session, claimed)
+        count_per_station(session, _HOUR, [_HOUR.c.starts_at], _HOUR.c.starts_at.in_(claimed), _HOUR_STATION)
     session.commit()
     return len(claimed)
-
-
-def _count_inspections(session: Session, hours: list[datetime]) -> None:
-    """One row per claimed hour and station with inspections, counted inside the database."""
-    station = func.coalesce(_INSPECTION.c.station_id, NO_STATION)
-    in_hour = and_(_INSPECTION.c.created_at >= _HOUR.c.starts_at, _INSPECTION.c.created_at < _HOUR.c.ends_at)
-    counts: Any = (
-        select(_HOUR.c.starts_at, station, func.count(), compliant_count(_INSPECTION.c.compliant))
-        .select_from(_HOUR.join(_INSPECTION, in_hour))
-        .where(_HOUR.c.starts_at.in_(hours))
-        .group_by(_HOUR.c.starts_at, station)
-    )
-    columns = ["starts_at", "station_id", "inspections", "compliant"]
-    session.execute(_HOUR_STATION.insert().from_select(columns, counts))

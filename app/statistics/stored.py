@@ -23,6 +23,7 @@ from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
 from sqlalchemy import (
     BindParameter,
+    Column,
     ColumnElement,
     Date,
     Row,
@@ -112,7 +113,7 @@ def _days(first: date, last: date) -> list[date]:
     return [first + timedelta(days=i) for i in range((last - first).days + 1)]
 
 
-def insert_for(session: Session) -> Any:
+def _insert(session: Session) -> Any:
     """The dialect's INSERT, which has ON CONFLICT DO NOTHING, for the session's database."""
     return postgresql.insert if session.get_bind().dialect.name == "postgresql" else sqlite.insert
 
@@ -191,15 +192,14 @@ def _count_batch(
         for table in (_MONTH_STATION, _MONTH):
             session.execute(delete(table).where(table.c.zone == name, table.c.month.in_(months)))
     zero = dict.fromkeys(_COUNTS, 0)
-    claim = insert_for(session)(_DAY).values(
-        [
-            {"zone": name, "day": day, "starts_at": start, "ends_at": end, **zero}
-            for day, (start, end) in bounds.items()
-        ]
-    )
-    claimed = list(session.scalars(claim.on_conflict_do_nothing().returning(_DAY.c.day)))
+    rows = [
+        {"zone": name, "day": day, "starts_at": start, "ends_at": end, **zero}
+        for day, (start, end) in bounds.items()
+    ]
+    claimed = claim(session, _DAY, rows, _DAY.c.day)
     if claimed:
-        _count_inspections(session, name, claimed)
+        these_days = and_(_DAY.c.zone == name, _DAY.c.day.in_(claimed))
+        count_per_station(session, _DAY, [_DAY.c.zone, _DAY.c.day], these_days, _DAY_STATION)
         _count_days(session, name, claimed)
     session.commit()
     return len(claimed)
@@ -208,19 +208,29 @@ def _count_batch(
 _COUNTS = ("inspections", "compliant", "certificates_issued", "refusals_issued", "certificates_revoked")
 
 
-def _count_inspections(session: Session, name: str, days: list[date]) -> None:
-    """One row per claimed day and station with inspections, counted inside the database."""
+def claim(session: Session, table: Table, rows: list[dict[str, Any]], key: Column[Any]) -> list[Any]:
+    """Insert the rows not in `table` yet (INSERT ... ON CONFLICT DO NOTHING); the `key` of those this
+    transaction inserted, and so is the one to count: concurrent claims of a row never both win."""
+    inserted = _insert(session)(table).values(rows).on_conflict_do_nothing().returning(key)
+    return list(session.scalars(inserted))
+
+
+def count_per_station(
+    session: Session, spans: Table, keys: list[Column[Any]], claimed: ColumnElement[bool], into: Table
+) -> None:
+    """Count the inspections of each `claimed` row of `spans` (a span of time with its UTC bounds
+    `starts_at` and `ends_at`, named by `keys`) per station, inside the database, into `into`: one
+    row per span and station with inspections (its keys, station_id, inspections, compliant)."""
     station = func.coalesce(_INSPECTION.c.station_id, NO_STATION)
-    compliant = compliant_count(_INSPECTION.c.compliant)
-    in_day = and_(_INSPECTION.c.created_at >= _DAY.c.starts_at, _INSPECTION.c.created_at < _DAY.c.ends_at)
+    at = _INSPECTION.c.created_at
     counts = (
-        select(_DAY.c.zone, _DAY.c.day, station, func.count(), compliant)
-        .select_from(_DAY.join(_INSPECTION, in_day))
-        .where(_DAY.c.zone == name, _DAY.c.day.in_(days))
-        .group_by(_DAY.c.zone, _DAY.c.day, station)
+        select(*keys, station, func.count(), compliant_count(_INSPECTION.c.compliant))
+        .select_from(spans.join(_INSPECTION, and_(at >= spans.c.starts_at, at < spans.c.ends_at)))
+        .where(claimed)
+        .group_by(*keys, station)
     )
-    columns = ["zone", "day", "station_id", "inspections", "compliant"]
-    session.execute(_DAY_STATION.insert().from_select(columns, counts))
+    columns = [*(key.name for key in keys), "station_id", "inspections", "compliant"]
+    session.execute(into.insert().from_select(columns, counts))
 
 
 def _count_days(session: Session, name: str, days: list[date]) -> None:
@@ -368,8 +378,9 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
     if not missing:
         return
     begin_write(session)
-    claim = insert_for(session)(_MONTH).values([{"zone": name, "month": month} for month in missing])
-    for month in session.scalars(claim.on_conflict_do_nothing().returning(_MONTH.c.month)).all():
+    for month in claim(
+        session, _MONTH, [{"zone": name, "month": month} for month in missing], _MONTH.c.month
+    ):
         days = _DAY_STATION
         sums = (
             select(
