@@ -74,11 +74,12 @@ def _whole_closed_days(
     if stored.day_bounds(first, zone)[0] < start:
         first += timedelta(days=1)
     last = stored.last_closed_day(zone, now)
-    if until is not None:
-        ends = until.astimezone(zone).date()
-        if stored.day_bounds(ends, zone)[1] > until:
-            ends -= timedelta(days=1)
-        last = min(last, ends)
+    # An `until` after the last closed day leaves it last; only an earlier one is worked out in the
+    # zone (one near the year 9999 would not even fit a date there).
+    if until is not None and until < stored.day_bounds(last, zone)[1]:
+        last = until.astimezone(zone).date()
+        if stored.day_bounds(last, zone)[1] > until:
+            last -= timedelta(days=1)
     if (last - first).days + 1 < FEWEST_STORED_DAYS:
         return None
     return first, last

@@ -111,6 +111,7 @@ PERIODS: list[tuple[datetime | None, datetime | None]] = [
     (None, None),  # all time
     (datetime(1472, 8, 5, 18, 39, tzinfo=UTC), moment(4, 0, 0)),  # from long before the first inspection
     (moment(1, 0, 0), datetime(9999, 1, 1, tzinfo=UTC)),  # until long after now
+    (None, datetime(9999, 12, 31, 23, 59, tzinfo=UTC)),  # until the last day a date holds (a 500 once)
     (moment(2, 22, 59), None),  # since a Lagos day edge
     (moment(3, 7, 13), moment(9, 17, 2)),  # odd times at both ends
     (moment(1, 0, 0), moment(13, 0, 0)),  # UTC midnights
