@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from datetime import date, datetime
 from decimal import Decimal
 from functools import lru_cache
@@ -256,7 +256,7 @@ def list_inspections(
     names = tuple(values)
     page = session.execute(_page_query(names), values | {"limit": limit, "offset": offset}).all()
     listed = [ListedInspection(*row[:_SHOWN]) for row in page]
-    if _counted_with_page(names) and page:
+    if _names_a_vehicle(names) and page:  # counted by the page's scan (see _page_query)
         return listed, int(page[0].total)
     return listed, _count(session, where, values, now=utcnow())
 
@@ -274,7 +274,7 @@ def count_inspections(session: Session, *, where: InspectionFilter, now: datetim
 
 def _count(session: Session, where: InspectionFilter, values: dict[str, Any], *, now: datetime) -> int:
     names = tuple(values)
-    if where.registration_number:
+    if _names_a_vehicle(names):
         query = _from_inspections(select(func.count()).select_from(Inspection), names)
         return int(session.scalar(query.where(*_conditions(names)), values) or 0)
     return count_matching(
@@ -290,7 +290,7 @@ def _count(session: Session, where: InspectionFilter, values: dict[str, Any], *,
     )
 
 
-_SHOWN = 7  # the page's columns that make a ListedInspection
+_SHOWN = len(fields(ListedInspection))  # the page's first columns, after them its `total`
 
 
 # Built once per filter shape (which values it has), on bound parameters: building the statement
@@ -311,7 +311,7 @@ def _page_query(names: tuple[str, ...]) -> Select[Any]:
         Inspection.vehicle_id,
         Inspection.station_id,
     ]
-    if _counted_with_page(names):
+    if _names_a_vehicle(names):  # a vehicle's history (a few hundred rows at most): counted by the scan
         columns.append(func.count().over().label("total"))
     chosen_rows = (
         _from_inspections(select(*columns), names)
@@ -331,15 +331,15 @@ def _page_query(names: tuple[str, ...]) -> Select[Any]:
         Station.name,
     ]
     return (
-        select(*shown, *([chosen_rows.c.total] if _counted_with_page(names) else []))
+        select(*shown, *([chosen_rows.c.total] if _names_a_vehicle(names) else []))
         .join(Vehicle, Vehicle.id == chosen_rows.c.vehicle_id)
         .outerjoin(Station, Station.id == chosen_rows.c.station_id)
         .order_by(chosen_rows.c.created_at.desc(), chosen_rows.c.id.desc())
     )
 
 
-def _counted_with_page(names: tuple[str, ...]) -> bool:
-    """A vehicle's history (a few hundred rows at most) is counted by the scan that reads its page."""
+def _names_a_vehicle(names: tuple[str, ...]) -> bool:
+    """Whether the filter values `names` name one vehicle (its condition is on the vehicle)."""
     return "registration_key" in names
 
 
@@ -349,7 +349,7 @@ _Query = TypeVar("_Query", bound="Select[*tuple[Any, ...]]")
 def _from_inspections(query: _Query, names: tuple[str, ...]) -> _Query:
     """The query on inspections, with their vehicle joined when the filter names one (its condition
     is on the vehicle)."""
-    return query.join(Vehicle, Vehicle.id == Inspection.vehicle_id) if "registration_key" in names else query
+    return query.join(Vehicle, Vehicle.id == Inspection.vehicle_id) if _names_a_vehicle(names) else query
 
 
 def _filter_values(where: InspectionFilter) -> dict[str, Any] | None:
