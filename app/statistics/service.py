@@ -23,9 +23,7 @@ from functools import lru_cache
 from typing import Any
 
 from sqlalchemy import (
-    BindParameter,
     ColumnElement,
-    ScalarSelect,
     Select,
     bindparam,
     case,
@@ -36,7 +34,6 @@ from sqlalchemy import (
 )
 from sqlalchemy.orm import Session
 
-from app.certificates.models import Certificate, CertificateRevocation
 from app.db import epoch_seconds, utcnow
 from app.inspections.models import Inspection
 from app.stations.models import Station
@@ -174,19 +171,10 @@ def certificate_counts(session: Session, *, period: Period, zone: tzinfo) -> tup
 
 
 @lru_cache(maxsize=1)
-def _certificates_query() -> Select[Any]:
+def _certificates_query() -> Select[int, int, int]:
     """Certificates issued, refusals issued and certificates revoked from `start` to `end` (bound)."""
-    start: BindParameter[datetime] = bindparam("start")
-    end: BindParameter[datetime] = bindparam("end")
-
-    def issued(compliant: bool) -> ScalarSelect[int]:
-        in_period = (Certificate.issued_at >= start, Certificate.issued_at < end)
-        return select(func.count()).where(Certificate.compliant.is_(compliant), *in_period).scalar_subquery()
-
-    revoked = select(func.count()).where(
-        CertificateRevocation.revoked_at >= start, CertificateRevocation.revoked_at < end
-    )
-    return select(issued(True), issued(False), revoked.scalar_subquery())
+    issued, refusals, revoked = stored.certificate_counts_between(bindparam("start"), bindparam("end"))
+    return select(issued, refusals, revoked)
 
 
 class _Tally:

@@ -27,6 +27,7 @@ from sqlalchemy import (
     ColumnElement,
     Date,
     Row,
+    ScalarSelect,
     Select,
     String,
     Table,
@@ -244,36 +245,34 @@ def _count_days(session: Session, name: str, days: list[date]) -> None:
             .scalar_subquery()
         )
 
-    def issued(compliant: bool) -> Any:
-        return (
-            select(func.count())
-            .where(
-                Certificate.compliant == compliant,
-                Certificate.issued_at >= _DAY.c.starts_at,
-                Certificate.issued_at < _DAY.c.ends_at,
-            )
-            .scalar_subquery()
-        )
-
-    revoked = (
-        select(func.count())
-        .where(
-            CertificateRevocation.revoked_at >= _DAY.c.starts_at,
-            CertificateRevocation.revoked_at < _DAY.c.ends_at,
-        )
-        .scalar_subquery()
-    )
+    issued, refusals, revoked = certificate_counts_between(_DAY.c.starts_at, _DAY.c.ends_at)
     session.execute(
         update(_DAY)
         .where(_DAY.c.zone == name, _DAY.c.day.in_(days))
         .values(
             inspections=at_stations(_DAY_STATION.c.inspections),
             compliant=at_stations(_DAY_STATION.c.compliant),
-            certificates_issued=issued(True),
-            refusals_issued=issued(False),
+            certificates_issued=issued,
+            refusals_issued=refusals,
             certificates_revoked=revoked,
         )
     )
+
+
+def certificate_counts_between(
+    start: Any, end: Any
+) -> tuple[ScalarSelect[int], ScalarSelect[int], ScalarSelect[int]]:
+    """Certificates issued, refusals issued and certificates revoked from `start` to `end` (columns
+    or bound parameters), as three scalar subqueries."""
+
+    def issued(compliant: bool) -> ScalarSelect[int]:
+        in_period = (Certificate.issued_at >= start, Certificate.issued_at < end)
+        return select(func.count()).where(Certificate.compliant.is_(compliant), *in_period).scalar_subquery()
+
+    revoked = select(func.count()).where(
+        CertificateRevocation.revoked_at >= start, CertificateRevocation.revoked_at < end
+    )
+    return issued(True), issued(False), revoked.scalar_subquery()
 
 
 def stored_daily(
