@@ -244,7 +244,7 @@ def _add_live(
     live: Period,
     zone: tzinfo,
     station_id: int | None,
-    now: datetime | None,
+    now: datetime,
 ) -> None:
     """The open days counted from the records (and their closed hours' stored counts)."""
     counted = open_day_counts(session, period=live, zone=zone, station_id=station_id, now=now)
@@ -312,19 +312,7 @@ def _open_days_query(*, days: int, one_station: bool) -> Select[Any]:
     if one_station:
         parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
     rows = union_all(*parts).subquery()
-    counted = (
-        select(
-            rows.c.day_number,
-            rows.c.station_id,
-            func.sum(rows.c.n).label("n"),
-            func.sum(rows.c.ok).label("ok"),
-        )
-        .group_by(rows.c.day_number, rows.c.station_id)
-        .subquery()
-    )
-    return select(
-        counted.c.day_number, counted.c.station_id, Station.name, counted.c.n, counted.c.ok
-    ).outerjoin(Station, Station.id == counted.c.station_id)
+    return stored.summed_by_station(rows, rows.c.day_number)
 
 
 def statistics(

@@ -30,6 +30,7 @@ from sqlalchemy import (
     ScalarSelect,
     Select,
     String,
+    Subquery,
     Table,
     and_,
     bindparam,
@@ -334,15 +335,22 @@ def _stations_query(*, whole_months: bool, one_station: bool) -> Select[Any]:
         ]
     if one_station:
         parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
-    rows = union_all(*parts).subquery()
-    # Summed first (one row per station), named after: the join meets 40 rows, not a year of days.
-    per_station = (
-        select(rows.c.station_id, func.sum(rows.c.n).label("n"), func.sum(rows.c.ok).label("ok"))
-        .group_by(rows.c.station_id)
+    return summed_by_station(union_all(*parts).subquery())
+
+
+def summed_by_station(rows: Subquery, *by: ColumnElement[Any]) -> Select[Any]:
+    """The `n` and `ok` of `rows` summed per station (and per the columns `by` of `rows`): the `by`
+    columns, station_id, the station's name, n, ok."""
+    keys = [*by, rows.c.station_id]
+    # Summed first, named after: the join meets one row per station, not a year of days.
+    sums = (
+        select(*keys, func.sum(rows.c.n).label("n"), func.sum(rows.c.ok).label("ok"))
+        .group_by(*keys)
         .subquery()
     )
-    return select(per_station.c.station_id, Station.name, per_station.c.n, per_station.c.ok).outerjoin(
-        Station, Station.id == per_station.c.station_id
+    named = [sums.c[key.name] for key in keys]
+    return select(*named, Station.name, sums.c.n, sums.c.ok).outerjoin(
+        Station, Station.id == sums.c.station_id
     )
 
 
