@@ -13,9 +13,9 @@ that began two days before the hours being stored are pruned then.
 from __future__ import annotations
 
 from datetime import UTC, datetime, timedelta
-from typing import cast
+from typing import Any, cast
 
-from sqlalchemy import Table, delete, func, select
+from sqlalchemy import ScalarSelect, Table, delete, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write
@@ -42,13 +42,23 @@ def _hour_of(moment: datetime) -> datetime:
     return moment.astimezone(UTC).replace(minute=0, second=0, microsecond=0)
 
 
+def hours_between(first: datetime, until: datetime) -> int:
+    """How many hours there are from `first` up to `until` (whole hours apart)."""
+    return int((until - first) / HOUR)
+
+
+def stored_between(first: Any, until: Any) -> ScalarSelect[int]:
+    """How many hours from `first` up to `until` (values or bound parameters) are stored."""
+    return select(func.count()).where(_HOUR.c.starts_at >= first, _HOUR.c.starts_at < until).scalar_subquery()
+
+
 def store_hours(session: Session, first: datetime, until: datetime) -> int:
     """Count and store the hours from `first` up to `until` (closed ones only) not stored yet; how
     many were counted. Commits when it stored anything."""
-    wanted = int((until - first) / HOUR)
+    wanted = hours_between(first, until)
     if not wanted:
         return 0
-    stored = session.scalar(select(func.count()).where(_HOUR.c.starts_at >= first, _HOUR.c.starts_at < until))
+    stored = session.scalar(select(stored_between(first, until)))
     if stored == wanted:
         return 0  # a visit's usual case: one more hour closes once an hour
     begin_write(session)

@@ -219,12 +219,15 @@ def _add_stored(
     """The closed days' stored counts (counted from the records first where missing)."""
     first, last = closed.first, closed.last
     issued = refusals = revoked = 0
-    for row in stored.closed_days(session, zone=zone, first=first, last=last):
+    # Unpacked, not read by name: a row's attributes cost more than the rest of a year's loop.
+    for day, _, _, inspections, compliant, day_issued, day_refusals, day_revoked in stored.closed_days(
+        session, zone=zone, first=first, last=last
+    ):
         if station_id is None:
-            tally.add_day(row.day, row.inspections, row.compliant)
-        issued += row.certificates_issued
-        refusals += row.refusals_issued
-        revoked += row.certificates_revoked
+            tally.add_day(day, inspections, compliant)
+        issued += day_issued
+        refusals += day_refusals
+        revoked += day_revoked
     tally.add_certificates((issued, refusals, revoked))
     if station_id is not None:
         for day, inspections, compliant in stored.stored_daily(
@@ -247,24 +250,33 @@ def _add_live(
     now: datetime,
 ) -> None:
     """The open days counted from the records (and their closed hours' stored counts)."""
-    counted = open_day_counts(session, period=live, zone=zone, station_id=station_id, now=now)
-    for day, sid, name, counts in counted:
+    counted = open_days(session, period=live, zone=zone, station_id=station_id, now=now)
+    for day, sid, name, counts in counted.per_station:
         tally.add_day(day, counts.inspections, counts.compliant)
         tally.add_station(sid, name, counts.inspections, counts.compliant)
-    tally.add_certificates(certificate_counts(session, period=live, zone=zone))
+    tally.add_certificates(counted.certificates)
 
 
-def open_day_counts(
+@dataclass(frozen=True)
+class OpenDays:
+    """The open days' counts: (day, station id, station name, counts) for each day and station with
+    inspections, and the certificates and refusals issued and certificates revoked in them."""
+
+    per_station: list[tuple[date, int | None, str | None, Counts]]
+    certificates: tuple[int, int, int]
+
+
+def open_days(
     session: Session,
     *,
     period: Period,
     zone: tzinfo,
     station_id: int | None = None,
     now: datetime | None = None,
-) -> list[tuple[date, int | None, str | None, Counts]]:
-    """(day, station id, station name, counts) for each local day and station of a short period
-    (the open days: one or two), in one statement: the whole UTC hours closed at `now` (default:
-    the current time) from their stored counts (stored here first where missing), the rest live.
+) -> OpenDays:
+    """The counts of a short period (the open days: one or two), in one statement: the whole UTC
+    hours closed at `now` (default: the current time) from their stored counts (stored here first
+    where missing), the rest live.
 
     Each inspection's (and hour's) day is told by comparing its time with the UTC starts of the
     period's days, worked out in Python, so the database needs no time-zone support.
@@ -272,15 +284,19 @@ def open_day_counts(
     days = [period.first + timedelta(days=i) for i in range(period.days)]
     start, end = period.utc_bounds(zone)
     hours_from, hours_until = hours.closed_hours(start, end, now or utcnow())
-    hours.store_hours(session, hours_from, hours_until)
     span: dict[str, Any] = {f"starts_{i}": stored.day_bounds(day, zone)[0] for i, day in enumerate(days)}
     span |= {"start": start, "hours_from": hours_from, "hours_until": hours_until, "end": end}
     query = _open_days_query(days=len(days), one_station=station_id is not None)
     rows = session.execute(query, span | {"station_id": station_id}).all()
-    return [
+    if rows[0].hours_stored < hours.hours_between(hours_from, hours_until):  # the counts read lack some
+        hours.store_hours(session, hours_from, hours_until)
+        rows = session.execute(query, span | {"station_id": station_id}).all()
+    per_station = [
         (days[int(number)], None if sid == NO_STATION else sid, name, Counts(int(n), int(ok)))
-        for number, sid, name, n, ok in rows
+        for *_, number, sid, name, n, ok in rows
+        if sid is not None  # None: the facts' row of a period without inspections
     ]
+    return OpenDays(per_station, (int(rows[0].issued), int(rows[0].refusals), int(rows[0].revoked)))
 
 
 # Built once per shape, with bound parameters: building the statement cost as much as running it.
@@ -288,7 +304,9 @@ def open_day_counts(
 def _open_days_query(*, days: int, one_station: bool) -> Select[Any]:
     """Inspections from `start` to `end` per day number (day i starts at `starts_i`) and station:
     the stored hours from `hours_from` up to `hours_until`, the rest from the records; with
-    `one_station`, at station `station_id` only."""
+    `one_station`, at station `station_id` only. Each row starts with `hours_stored` (how many of
+    those hours are stored) and the certificates and refusals `issued`, `refusals`, and the
+    certificates `revoked` from `start` to `end`."""
 
     def day_number(moment: Any) -> Any:
         later_days = [(moment >= bindparam(f"starts_{i}"), i) for i in range(days - 1, 0, -1)]
@@ -312,7 +330,14 @@ def _open_days_query(*, days: int, one_station: bool) -> Select[Any]:
     if one_station:
         parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
     rows = union_all(*parts).subquery()
-    return stored.summed_by_station(rows, rows.c.day_number)
+    issued, refusals, revoked = stored.certificate_counts_between(bindparam("start"), bindparam("end"))
+    return stored.with_facts(
+        stored.summed_by_station(rows, rows.c.day_number),
+        hours_stored=hours.stored_between(bindparam("hours_from"), bindparam("hours_until")),
+        issued=issued,
+        refusals=refusals,
+        revoked=revoked,
+    )
 
 
 def statistics(

@@ -39,6 +39,7 @@ from sqlalchemy import (
     func,
     literal,
     select,
+    true,
     union_all,
     update,
 )
@@ -65,6 +66,8 @@ _DAY_STATION = cast(Table, StatisticsDayStation.__table__)
 _MONTH = cast(Table, StatisticsMonth.__table__)
 _MONTH_STATION = cast(Table, StatisticsMonthStation.__table__)
 _INSPECTION = cast(Table, Inspection.__table__)
+# A stored day as read: the day, its UTC bounds as seconds since 1970, and its _COUNTS.
+StoredDay = Row[date, int, int, int, int, int, int, int]
 
 
 def stored_zone() -> tzinfo:
@@ -120,7 +123,7 @@ def _insert(session: Session) -> Any:
     return postgresql.insert if session.get_bind().dialect.name == "postgresql" else sqlite.insert
 
 
-def _read_days(session: Session, name: str, first: date, last: date) -> list[Row[Any]]:
+def _read_days(session: Session, name: str, first: date, last: date) -> list[StoredDay]:
     # Fetched whole (.all()): row by row, the driver's per-row calls cost ten times the query.
     query = _days_query(session.get_bind().dialect.name)
     return list(session.execute(query, {"zone": name, "first": first, "last": last}).all())
@@ -153,7 +156,7 @@ def count_closed_days(session: Session, *, zone: tzinfo, first: date, last: date
     return _count_missing(session, zone, first, last, _read_days(session, zone_name(zone), first, last))
 
 
-def closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> list[Row[Any]]:
+def closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> list[StoredDay]:
     """The stored rows of the closed days `first` to `last` (day, its bounds as seconds since 1970
     `starts` and `ends`, and its counts), oldest first; those not stored yet are counted first."""
     name = zone_name(zone)
@@ -163,14 +166,14 @@ def closed_days(session: Session, *, zone: tzinfo, first: date, last: date) -> l
     return rows
 
 
-def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows: list[Row[Any]]) -> int:
+def _count_missing(session: Session, zone: tzinfo, first: date, last: date, rows: list[StoredDay]) -> int:
     """Count the days of the span missing from `rows`, or stored over other bounds; how many."""
     name = zone_name(zone)
     wanted = _bounds_in_seconds(first, last, zone)
-    stale = [row.day for row in rows if wanted[row.day] != (row.starts, row.ends)]
+    stale = [day for day, starts, ends, *_ in rows if wanted[day] != (starts, ends)]
     if len(rows) == len(wanted) and not stale:
         return 0  # every day stored (one row a day), over the zone's bounds: a visit's usual case
-    stored = {row.day for row in rows}
+    stored = {day for day, *_ in rows}
     missing = [day for day in wanted if day not in stored or day in stale]
     counted = 0
     # A batch at a time: years of days in one statement would pass the drivers' limit on parameters.
@@ -302,13 +305,17 @@ def stored_stations(
     months = _whole_months(first, last)
     span = {"zone": name, "first": first, "last": last, "station_id": station_id}
     if months:
-        _store_months(session, name, months)
         span["months_from"], span["months_until"] = months[0], _month_after(months[-1])
         span["before_months"] = months[0] - timedelta(days=1)
     query = _stations_query(whole_months=bool(months), one_station=station_id is not None)
+    rows = session.execute(query, span).all()
+    if months and rows[0].months_stored < len(months):  # the sums read are short of some months
+        _store_months(session, name, months)
+        rows = session.execute(query, span).all()
     return [
         (None if station == NO_STATION else station, station_name, int(n), int(ok))
-        for station, station_name, n, ok in session.execute(query, span).all()
+        for _, station, station_name, n, ok in rows
+        if station is not None  # None: the facts' row of an empty period
     ]
 
 
@@ -317,9 +324,20 @@ def stored_stations(
 def _stations_query(*, whole_months: bool, one_station: bool) -> Select[Any]:
     """The per-station sums of zone `zone`'s stored days `first` to `last`; with `whole_months`, the
     months `months_from` up to `months_until` from their sums and only the days before
-    (`before_months`) and after from the days'; with `one_station`, station `station_id` only."""
+    (`before_months`) and after from the days'; with `one_station`, station `station_id` only.
+    Each row starts with `months_stored`: how many of those months have their sums stored."""
     parts = [_day_rows(bindparam("first"), bindparam("last"))]
+    months_stored: ColumnElement[int] = literal(0)
     if whole_months:
+        months_stored = (
+            select(func.count())
+            .where(
+                _MONTH.c.zone == bindparam("zone"),
+                _MONTH.c.month >= bindparam("months_from"),
+                _MONTH.c.month < bindparam("months_until"),
+            )
+            .scalar_subquery()
+        )
         # Three ranges apart: one OR would scan every day between them.
         months = _MONTH_STATION
         parts = [
@@ -335,7 +353,16 @@ def _stations_query(*, whole_months: bool, one_station: bool) -> Select[Any]:
         ]
     if one_station:
         parts = [part.where(part.selected_columns.station_id == bindparam("station_id")) for part in parts]
-    return summed_by_station(union_all(*parts).subquery())
+    return with_facts(summed_by_station(union_all(*parts).subquery()), months_stored=months_stored)
+
+
+def with_facts(rows: Select[Any], **facts: ColumnElement[Any]) -> Select[Any]:
+    """The `facts` of a whole period (scalar subqueries, worked out once), then the columns of
+    `rows`, on every row; one row of the facts alone (the rest null) when `rows` finds none. So a
+    check and the counts it vouches for cost one round trip."""
+    found = rows.subquery()
+    known = select(*(fact.label(name) for name, fact in facts.items())).subquery()
+    return select(known, found).select_from(known.outerjoin(found, true()))
 
 
 def summed_by_station(rows: Subquery, *by: ColumnElement[Any]) -> Select[Any]:
