@@ -50,7 +50,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         record_start(session, get_settings())
     proxies = trusted_proxies(get_settings().forwarded_allow_ips)
     uvicorn.run(
-        "app.main:create_app",
+        "app.main:create_served_app",
         factory=True,
         host=args.host,
         port=args.port,
