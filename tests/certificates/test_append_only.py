@@ -10,18 +10,15 @@ from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
+from protected_rows import fill_every_protected_table
 from sqlalchemy import Engine, delete, select, text, update
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
-from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
+from study_data import STUDY_READINGS
 
-from app.audit.checkpoint import record_checkpoint
-from app.audit.service import verify_log
-from app.certificates.actors import Actor
 from app.certificates.guard import ImmutableRecord
 from app.certificates.keys import rotate_signing_key
 from app.certificates.models import SigningKey
-from app.certificates.service import revoke_certificate
 from app.config import get_settings
 from app.db import utcnow
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
@@ -46,26 +43,7 @@ PROTECTED = {
 @pytest.fixture
 def history(api: TestClient, session: Session) -> dict[str, Any]:
     """A weighing, its refusal revoked, and a key rotated: a row in every protected table."""
-    assert api.post("/api/v1/vehicles", json=STUDY_VEHICLE).status_code == 201
-    weighing = {"registration_number": "BDG 252 QH", "readings": STUDY_READINGS}
-    submitted = api.post("/api/v1/inspections", json=weighing)
-    assert submitted.status_code == 201, submitted.text
-    issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
-    assert issued.status_code == 201, issued.text
-    second = {**STUDY_VEHICLE, "registration_number": "AGL 7180"}
-    assert api.post("/api/v1/vehicles", json=second).status_code == 201
-    weighed = api.post(
-        "/api/v1/inspections",
-        json={"registration_number": "AGL 7180", "readings": STUDY_TYPE_READINGS["AGL 7180"]},
-    )
-    assert weighed.status_code == 201, weighed.text
-    typed = api.post("/api/v1/type-assessments", json={"make": "Bajaj", "model": "RE"})
-    assert typed.status_code == 201, typed.text
-    revoke_certificate(session, number=issued.json()["number"], actor=Actor.of_cli(), reason="test")
-    rotate_signing_key(session, get_settings())
-    record_checkpoint(session, get_settings(), event_id=verify_log(session).events)
-    session.close()
-    return {"inspection": submitted.json(), "certificate": issued.json()}
+    return fill_every_protected_table(api, session, reason="test")
 
 
 def refused(engine: Engine, sql: str) -> str:

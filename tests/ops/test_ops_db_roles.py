@@ -13,18 +13,12 @@ from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
+from protected_rows import fill_every_protected_table
 from sqlalchemy import Connection, Engine, create_engine, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
-from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
 
-from app.audit.checkpoint import record_checkpoint
-from app.audit.service import verify_log
-from app.certificates.actors import Actor
-from app.certificates.keys import rotate_signing_key
-from app.certificates.service import revoke_certificate
-from app.config import get_settings
 from app.db import Base
 from app.grants import APPEND_ONLY, PRIVILEGES, AppRoleRefused, grant_app_role
 
@@ -64,26 +58,7 @@ def on_postgresql(engine: Engine) -> None:
 def flows(api: TestClient, client: TestClient, session: Session, engine: Engine) -> dict[str, Any]:
     """As the app role: weigh, certify, revoke, verify, rotate the key; every protected table has rows."""
     on_postgresql(engine)
-    assert api.post("/api/v1/vehicles", json=STUDY_VEHICLE).status_code == 201
-    weighing = {"registration_number": "BDG 252 QH", "readings": STUDY_READINGS}
-    submitted = api.post("/api/v1/inspections", json=weighing)
-    assert submitted.status_code == 201, submitted.text
-    issued = api.post(f"/api/v1/inspections/{submitted.json()['id']}/certificate")
-    assert issued.status_code == 201, issued.text
-    second = {**STUDY_VEHICLE, "registration_number": "AGL 7180"}
-    assert api.post("/api/v1/vehicles", json=second).status_code == 201
-    weighed = api.post(
-        "/api/v1/inspections",
-        json={"registration_number": "AGL 7180", "readings": STUDY_TYPE_READINGS["AGL 7180"]},
-    )
-    assert weighed.status_code == 201, weighed.text
-    typed = api.post("/api/v1/type-assessments", json={"make": "Bajaj", "model": "RE"})
-    assert typed.status_code == 201, typed.text
-    body: dict[str, Any] = issued.json()
-    revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason="weighed wrongly")
-    rotate_signing_key(session, get_settings())
-    record_checkpoint(session, get_settings(), event_id=verify_log(session).events)
-    session.close()
+    body: dict[str, Any] = fill_every_protected_table(api, session, reason="weighed wrongly")["certificate"]
     page = client.get(f"/verify/{body['number']}")
     assert page.status_code == 200
     assert "weighed wrongly" in page.text  # the revocation shows on the public page
