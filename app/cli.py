@@ -20,6 +20,7 @@ from app.certificates.cli import add_certificate_commands
 from app.config import get_settings, settings_problems, trusted_proxies
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
+from app.inspections.wording import verdict_mark
 from app.stations.details import StationDetails, details_of
 from app.stations.models import Station
 
@@ -227,7 +228,7 @@ def cmd_demo(_args: argparse.Namespace) -> int:
     print(f"loaded the study's vehicle {STUDY_REGISTRATION} and inspection {inspection.id}:")
     print(f"{'occupants':>9} {'total kg':>9} {'rear kg':>8} {'LSF':>6} {'variance':>8}  result")
     for case in inspection.loading_cases:
-        verdict = "C" if case.compliant else "NC"
+        verdict = verdict_mark(case.compliant)
         print(
             f"{case.occupants:>9} {load_kg(case.total_kg):>9} {load_kg(case.rear_kg):>8} {case.lsf:>6.3f} "
             f"{case.variance:>+8.3f}  {verdict}"

@@ -15,6 +15,7 @@ from fpdf import FPDF
 
 from app.certificates import fonts
 from app.certificates.facts import CaseFacts
+from app.inspections.wording import verdict_mark
 from app.stability import LSF_LIMIT
 
 LIMIT = float(LSF_LIMIT)
@@ -117,7 +118,7 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> tuple[float, 
             pdf.line(cx - 1.4, cy - 1.4, cx + 1.4, cy + 1.4)
             pdf.line(cx - 1.4, cy + 1.4, cx + 1.4, cy - 1.4)
         pdf.set_font(fonts.FAMILY, "B", 7)
-        mark = "C" if case.compliant else "NC"
+        mark = verdict_mark(case.compliant)
         # Above its marker (below it near the top), centred: beside it, a label runs into the next case.
         pdf.text(cx - pdf.get_string_width(mark) / 2, cy - 2.4 if cy - box.y > 6 else cy + 4.6, mark)
         pdf.set_font(fonts.FAMILY, "", 7)

@@ -34,6 +34,7 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey,
 from app.certificates.claims import Claims, PayloadRefused, Verified, find_key, tampered
 from app.certificates.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
 from app.certificates.validity import local_date
+from app.inspections.wording import verdict_mark
 
 COSE_SIGN1_TAG = 18
 EDDSA = -8  # COSE algorithm EdDSA; with an OKP Ed25519 key it is Ed25519
@@ -201,7 +202,7 @@ def _claims_of(payload: bytes) -> Claims:
         registration=registration,
         issued=local_date(issued_at),
         expires=local_date(expires_at),
-        verdict="C" if compliant else "NC",
+        verdict=verdict_mark(compliant),
         max_occupants=occupants,
         issued_at=issued_at,
         expires_at=expires_at,

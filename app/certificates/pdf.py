@@ -17,7 +17,7 @@ from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.dynamics_pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layout, Page, line_height
-from app.inspections.wording import document_kind, document_title
+from app.inspections.wording import document_kind, document_title, verdict_mark
 from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
 
 QR_BOX = 56.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.86 mm modules
@@ -239,7 +239,7 @@ def _row(case: CaseFacts) -> tuple[str, ...]:
         ratio(case.lsf),
         limit_text(),
         signed(case.variance),
-        "C" if case.compliant else "NC",
+        verdict_mark(case.compliant),
     )
 
 

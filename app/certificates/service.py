@@ -31,7 +31,7 @@ from app.db import utcnow
 from app.errors import Conflict, InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
-from app.inspections.wording import document_kind
+from app.inspections.wording import document_kind, verdict_mark
 from app.stations.scale import CalibrationRefused
 from app.text import checked
 
@@ -235,7 +235,7 @@ def _create(
         registration=facts.vehicle.registration_number,
         issued=local_date(issued_at),
         expires=local_date(expires_at),
-        verdict="C" if facts.compliant else "NC",
+        verdict=verdict_mark(facts.compliant),
         max_occupants=facts.max_compliant_occupants,
         issued_at=issued_at,
         expires_at=expires_at,

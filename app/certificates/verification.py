@@ -13,6 +13,7 @@ from app.certificates.records import certificate_status
 from app.certificates.schemas import VerificationOut
 from app.certificates.signing import verify_input
 from app.certificates.validity import local_date
+from app.inspections.wording import verdict_mark
 
 
 @dataclass(frozen=True)
@@ -33,7 +34,7 @@ def expected_claims(certificate: Certificate) -> Claims:
         registration=certificate.registration_number,
         issued=local_date(certificate.issued_at),
         expires=local_date(certificate.expires_at),
-        verdict="C" if certificate.compliant else "NC",
+        verdict=verdict_mark(certificate.compliant),
         max_occupants=certificate.max_compliant_occupants,
     )
 

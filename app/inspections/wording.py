@@ -54,6 +54,11 @@ def occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
     return f"This vehicle may carry {occupancy_limit(max_compliant_occupants)}, no more"
 
 
+def verdict_mark(compliant: bool) -> Literal["C", "NC"]:
+    """A loading case's (or a document's) verdict as the study's Table 4 marks it: 'C' or 'NC'."""
+    return "C" if compliant else "NC"
+
+
 def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants: int) -> str:
     """The overall verdict in one or two sentences, from (occupants, compliant) per loading case."""
     occupied = [(n, ok) for n, ok in cases if n > 0]

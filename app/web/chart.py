@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from markupsafe import Markup, escape
 
+from app.inspections.wording import verdict_mark
 from app.stability import LSF_LIMIT
 
 WIDTH, HEIGHT = 480, 340
@@ -215,12 +216,12 @@ def series(
     data = f' data-series="{name}"' if name else ""
     for i, point in enumerate(points):
         x, y = plot.x_of(i + shift), plot.y_of(point.lsf)
-        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}"{data}>')
+        parts.append(f'<g class="chart__point" data-verdict="{verdict_mark(point.compliant)}"{data}>')
         parts.append(marker(x, y, point.compliant, hollow=muted))
         if not muted:
             # C points lie below the line and NC points above it: label each away from the line.
             label_y = y + 27 if point.compliant else y - 14
-            parts.append(_text(x, label_y, "C" if point.compliant else "NC", size=17, cls="chart__verdict"))
+            parts.append(_text(x, label_y, verdict_mark(point.compliant), size=17, cls="chart__verdict"))
         parts.append("</g>")
     return parts
 
@@ -396,7 +397,7 @@ def stability_map(
     parts.append(_frame(MAP_LEFT, MAP_TOP, plot_w, plot_h))
     for across, up, point in geometry.points:
         x, y = x_of(across), y_of(up)
-        parts.append(f'<g class="chart__point" data-verdict="{"C" if point.compliant else "NC"}">')
+        parts.append(f'<g class="chart__point" data-verdict="{verdict_mark(point.compliant)}">')
         parts.append(marker(x, y, point.compliant))
         # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
         label_y = y + 25 if bottom - y > 30 else y - 12

@@ -12,6 +12,7 @@ from starlette.templating import Jinja2Templates
 
 from app.accounts import second_factor
 from app.config import get_settings
+from app.inspections.wording import verdict_mark
 from app.stability import case_label
 from app.web import formatting
 
@@ -34,7 +35,12 @@ _env.filters.update(
     load_kg=formatting.load_kg,
     long_date=formatting.long_date,
 )
-_env.globals.update(service_name=SERVICE_NAME, limit_text=formatting.limit_text, case_label=case_label)
+_env.globals.update(
+    service_name=SERVICE_NAME,
+    limit_text=formatting.limit_text,
+    case_label=case_label,
+    verdict_mark=verdict_mark,
+)
 templates = Jinja2Templates(env=_env)
 
 

@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from app.inspections.wording import occupancy_sentence, verdict_sentence
+from app.inspections.wording import occupancy_sentence, verdict_mark, verdict_sentence
 from app.web.chart import ChartPoint, lsf_chart, y_range
 
 SVG = "{http://www.w3.org/2000/svg}"
@@ -120,3 +120,8 @@ def test_the_occupancy_sentence_says_what_the_vehicle_may_carry() -> None:
     )
     assert occupancy_sentence(False, 1) == "This vehicle must not carry passengers"
     assert occupancy_sentence(False, 3) == "This vehicle may carry the driver and up to 2 passengers, no more"
+
+
+@pytest.mark.parametrize(("compliant", "mark"), [(True, "C"), (False, "NC")])
+def test_a_verdict_is_marked_as_the_study_marks_it(compliant: bool, mark: str) -> None:
+    assert verdict_mark(compliant) == mark
