@@ -286,11 +286,12 @@ def open_days(
     hours_from, hours_until = hours.closed_hours(start, end, now or utcnow())
     span: dict[str, Any] = {f"starts_{i}": stored.day_bounds(day, zone)[0] for i, day in enumerate(days)}
     span |= {"start": start, "hours_from": hours_from, "hours_until": hours_until, "end": end}
+    span["station_id"] = station_id
     query = _open_days_query(days=len(days), one_station=station_id is not None)
-    rows = session.execute(query, span | {"station_id": station_id}).all()
+    rows = session.execute(query, span).all()
     if rows[0].hours_stored < hours.hours_between(hours_from, hours_until):  # the counts read lack some
         hours.store_hours(session, hours_from, hours_until)
-        rows = session.execute(query, span | {"station_id": station_id}).all()
+        rows = session.execute(query, span).all()
     per_station = [
         (days[int(number)], None if sid == NO_STATION else sid, name, Counts(int(n), int(ok)))
         for *_, number, sid, name, n, ok in rows

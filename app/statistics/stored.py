@@ -329,15 +329,7 @@ def _stations_query(*, whole_months: bool, one_station: bool) -> Select[Any]:
     parts = [_day_rows(bindparam("first"), bindparam("last"))]
     months_stored: ColumnElement[int] = literal(0)
     if whole_months:
-        months_stored = (
-            select(func.count())
-            .where(
-                _MONTH.c.zone == bindparam("zone"),
-                _MONTH.c.month >= bindparam("months_from"),
-                _MONTH.c.month < bindparam("months_until"),
-            )
-            .scalar_subquery()
-        )
+        months_stored = select(func.count()).where(_months_stored()).scalar_subquery()
         # Three ranges apart: one OR would scan every day between them.
         months = _MONTH_STATION
         parts = [
@@ -406,7 +398,7 @@ def _whole_months(first: date, last: date) -> list[date]:
 def _store_months(session: Session, name: str, months: list[date]) -> None:
     """Store the per-station sums of the months not stored yet, from their days' (all stored), once:
     the month's row is claimed like a day's, and only the transaction that inserted it sums it."""
-    span = {"zone": name, "first": months[0], "last": months[-1]}
+    span = {"zone": name, "months_from": months[0], "months_until": _month_after(months[-1])}
     stored = set(session.scalars(_stored_months_query(), span))
     missing = [month for month in months if month not in stored]
     if not missing:
@@ -434,11 +426,15 @@ def _store_months(session: Session, name: str, months: list[date]) -> None:
 
 @lru_cache(maxsize=1)
 def _stored_months_query() -> Select[Any]:
-    """The months of zone `zone` from `first` to `last` whose sums are stored."""
+    """The months of zone `zone` from `months_from` up to `months_until` whose sums are stored."""
+    return select(_MONTH.c.month).where(_months_stored())
+
+
+def _months_stored() -> ColumnElement[bool]:
+    """The stored months of zone `zone` from `months_from` up to `months_until` (bound parameters)."""
     month = _MONTH.c.month
-    return select(month).where(
-        _MONTH.c.zone == bindparam("zone"), month >= bindparam("first"), month <= bindparam("last")
-    )
+    in_span = (month >= bindparam("months_from"), month < bindparam("months_until"))
+    return and_(_MONTH.c.zone == bindparam("zone"), *in_span)
 
 
 def _in_period(name: str | BindParameter[str], first: date | Any, last: date | Any) -> Any:
