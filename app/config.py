@@ -5,6 +5,7 @@ from __future__ import annotations
 import ipaddress
 from decimal import Decimal
 from functools import lru_cache
+from pathlib import Path
 from typing import Literal
 from urllib.parse import urlsplit
 
@@ -58,7 +59,17 @@ class Settings(BaseSettings):
     # The public address printed on certificates and in QR codes; production requires an https one.
     base_url: str = "http://127.0.0.1:8000"
     issuing_authority: str = "Tricycle Lateral Stability Certification Authority"
-    # The Ed25519 key that signs QR payloads: PEM, base64 of PEM, or base64 of the 32-byte seed.
+    # Where the Ed25519 key that signs QR payloads and audit checkpoints is held: never in the database.
+    # A PEM file (0600) the service reads and rotation rewrites; unset: trikecert-signing-key.pem beside
+    # the SQLite database file, else in the working directory (made on first use).
+    signing_key_file: Path | None = None
+    # Or a PKCS#11 token (an HSM; SoftHSM2 for tests and small sites): the module's library, the token's
+    # label and user PIN, and the label of the key pair on it. Set the module to use the token.
+    pkcs11_module: Path | None = None
+    pkcs11_token_label: str = "trikecert"  # noqa: S105 (a label, not a secret)
+    pkcs11_pin: SecretStr | None = None
+    pkcs11_key_label: str = Field(default="trikecert-signing", min_length=1, max_length=64)
+    # Or the key itself (PEM, base64 of PEM, or base64 of the 32-byte seed); rotated by changing it.
     signing_key: SecretStr | None = None
     # Pages show times and count "today" in this zone; everything is stored in UTC.
     display_timezone: str = "Africa/Lagos"

@@ -65,11 +65,14 @@ def _app_role_url(owner_url: str, role: str) -> str:
 def owner_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     """The URL of this run's fresh database as its owner, migrated to head."""
     server_url = os.environ.get(TEST_DATABASE_ENV, "")
+    folder = Path(tmp_path_factory.mktemp("db"))
     if server_url.startswith("postgresql"):
         url, created = _fresh_postgres(server_url)
     else:
-        url, created = f"sqlite:///{Path(tmp_path_factory.mktemp('db')) / 'trikecert-test.db'}", None
+        url, created = f"sqlite:///{folder / 'trikecert-test.db'}", None
     os.environ["TRIKECERT_ENVIRONMENT"] = "test"
+    # The run's signing key, held outside the database (on SQLite where it is by default, beside it).
+    os.environ["TRIKECERT_SIGNING_KEY_FILE"] = str(folder / "trikecert-signing-key.pem")
     _clear_caches()
     owner = make_engine(url)
     upgrade(owner)

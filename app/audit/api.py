@@ -1,13 +1,17 @@
-"""The audit log's published head: the newest signed checkpoint, for a regulator to keep."""
+"""The audit log's published checkpoints: the newest (the head) and every one before it, for regulators
+and anyone else to keep and compare."""
 
 from __future__ import annotations
 
 from datetime import datetime
+from typing import Annotated
 
-from fastapi import APIRouter, Response
+from fastapi import APIRouter, Query, Response
 from pydantic import BaseModel, ConfigDict, Field
+from sqlalchemy import select
 
 from app.audit.checkpoint import newest_checkpoint
+from app.audit.models import AuditCheckpoint
 from app.errors import NotFound
 from app.web.deps import SessionDep
 
@@ -37,7 +41,32 @@ class AuditHead(BaseModel):
     hash: str = Field(description="SHA-256 of the event, hex, as the chain holds it")
     signed_at: datetime
     kid: str = Field(description="The key in /.well-known/trikecert-keys.json that signed `token`")
-    token: str = Field(description="JWS compact (Ed25519) of {chain, event, hash, at}")
+    token: str = Field(
+        description="JWS compact (Ed25519) of {chain, event, hash, at, previous}; `previous` is the "
+        "SHA-256 (hex) of the token of the checkpoint before it"
+    )
+
+    @classmethod
+    def of(cls, checkpoint: AuditCheckpoint) -> AuditHead:
+        """The published form of a stored checkpoint."""
+        return cls(
+            checkpoint=checkpoint.id,
+            event_id=checkpoint.event_id,
+            hash=checkpoint.hash,
+            signed_at=checkpoint.created_at,
+            kid=checkpoint.kid,
+            token=checkpoint.token,
+        )
+
+
+class AuditCheckpoints(BaseModel):
+    """Signed checkpoints, oldest first: each token names the one before it, so the list is a chain."""
+
+    checkpoints: list[AuditHead]
+    more: bool = Field(description="True when more checkpoints follow; ask again with `after`")
+
+
+PAGE = 500
 
 
 @router.get(
@@ -51,11 +80,18 @@ def audit_head(session: SessionDep, response: Response) -> AuditHead:
     if checkpoint is None:
         raise NotFound("audit: no checkpoint has been signed yet", field="audit", rule="not_found")
     response.headers["Cache-Control"] = "public, max-age=60"
-    return AuditHead(
-        checkpoint=checkpoint.id,
-        event_id=checkpoint.event_id,
-        hash=checkpoint.hash,
-        signed_at=checkpoint.created_at,
-        kid=checkpoint.kid,
-        token=checkpoint.token,
-    )
+    return AuditHead.of(checkpoint)
+
+
+@router.get("/audit/checkpoints", summary="Every signed checkpoint of the audit log, oldest first (public)")
+def audit_checkpoints(
+    session: SessionDep,
+    response: Response,
+    after: Annotated[int, Query(ge=0, le=2**31 - 1, description="Only checkpoints after this one")] = 0,
+) -> AuditCheckpoints:
+    """Compare with the copies you kept: a checkpoint you hold that is missing or different here, or a
+    token whose `previous` does not name the one before it, proves the log was rewritten."""
+    query = select(AuditCheckpoint).where(AuditCheckpoint.id > after).order_by(AuditCheckpoint.id)
+    rows = session.scalars(query.limit(PAGE + 1)).all()
+    response.headers["Cache-Control"] = "public, max-age=60"
+    return AuditCheckpoints(checkpoints=[AuditHead.of(row) for row in rows[:PAGE]], more=len(rows) > PAGE)

@@ -1,16 +1,23 @@
 """Signed checkpoints of the audit chain: after a full check, the head's id and hash signed with the
-certificate signing key (JWS compact, Ed25519), stored, and published for regulators to keep.
+signing key, which is held outside the database (JWS compact, Ed25519), stored, and published for
+regulators and anyone else to keep.
 
 A published checkpoint holds the service to its past: an event edited, removed or inserted at or
-before it no longer matches it, and removing the newest events (which leaves a chain that checks)
-shows too, since the checkpoint names an event that is gone. The audit page checks the newest
-checkpoint and only the events after it, so its cost does not grow with the log.
+before it no longer matches it, even when every SHA-256 link after the edit was computed again (the
+chain alone needs no secret to rewrite; the checkpoint's signature does), and removing the newest
+events shows too, since the checkpoint names an event that is gone. `trikecert audit-verify` checks
+every stored checkpoint against the chain and signs nothing over a chain that contradicts one. Each
+checkpoint names the SHA-256 of the checkpoint token before it (`previous`), so the published history
+is a chain of its own: a copy kept outside proves a later rewrite even if the stored checkpoints are
+replaced. The audit page checks the newest checkpoint and only the events after it, so its cost does
+not grow with the log.
 """
 
 from __future__ import annotations
 
 import base64
 import binascii
+import hashlib
 import json
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -26,8 +33,10 @@ from app.audit.chain import ChainReport, EventFields, event_hash, verify_chain
 from app.audit.models import AuditCheckpoint, AuditEvent
 from app.certificates.claims import find_key
 from app.certificates.keys import current_signer, published_keys
+from app.certificates.signer import Signer
 from app.config import Settings
 from app.db import begin_write, utcnow
+from app.errors import Conflict
 
 ALGORITHM = "Ed25519"
 FIELDS = tuple(EventFields.__dataclass_fields__)
@@ -57,34 +66,97 @@ def newest_checkpoint(session: Session) -> AuditCheckpoint | None:
     return session.scalars(query).first()
 
 
-def verify_all(session: Session) -> ChainReport:
-    """Check every event from the first, and that the newest checkpoint's event is still there."""
+def _b64(raw: bytes) -> str:
+    return base64.urlsafe_b64encode(raw).rstrip(b"=").decode()
+
+
+def token_digest(token: str) -> str:
+    """SHA-256 of a checkpoint's token, hex: what the next checkpoint names as `previous`."""
+    return hashlib.sha256(token.encode()).hexdigest()
+
+
+def sign_claims(signer: Signer, claims: dict[str, Any]) -> str:
+    """A JWS compact of the claims, Ed25519 by the signer (which may be a token that never lets the
+    private key out)."""
+    header = _b64(json.dumps({"alg": ALGORITHM, "kid": signer.kid}, separators=(",", ":")).encode())
+    payload = _b64(json.dumps(claims, separators=(",", ":"), sort_keys=True).encode())
+    return f"{header}.{payload}.{_b64(signer.sign(f'{header}.{payload}'.encode()))}"
+
+
+def all_checkpoints(session: Session) -> list[AuditCheckpoint]:
+    """Every stored checkpoint, oldest first."""
+    return list(session.scalars(select(AuditCheckpoint).order_by(AuditCheckpoint.id)))
+
+
+def contradiction(session: Session, settings: Settings) -> tuple[AuditCheckpoint, str] | None:
+    """The first stored checkpoint (oldest first) that the chain as stored contradicts, and why: a
+    signature no published key made, a claim that differs from the row, a broken `previous` link, an
+    event gone, or an event whose stored hash is not the one signed."""
+    jwks = published_keys(session, settings)
+    previous: AuditCheckpoint | None = None
+    for checkpoint in all_checkpoints(session):
+        problem = _checkpoint_problem(session, checkpoint, jwks, previous)
+        if problem is not None:
+            return checkpoint, problem
+        previous = checkpoint
+    return None
+
+
+def verify_all(session: Session, settings: Settings) -> ChainReport:
+    """Check every event from the first, then every stored checkpoint against the chain."""
     report = verify_chain(_events(session))
-    newest = newest_checkpoint(session)
-    if report.intact and newest is not None and newest.event_id > report.events:
+    if not report.intact:
+        return report
+    found = contradiction(session, settings)
+    if found is None:
+        return report
+    checkpoint, problem = found
+    if checkpoint.event_id > report.events:
         missing = report.events + 1
-        reason = f"event {missing} is missing: checkpoint {newest.id} was signed at event {newest.event_id}"
-        return ChainReport(report.events, missing, reason)
-    return report
+        signed = f"checkpoint {checkpoint.id} was signed at event {checkpoint.event_id}"
+        return ChainReport(report.events, missing, f"event {missing} is missing: {signed}")
+    # What the last checkpoint that holds signed is proven; the change lies after it, up to this one.
+    proven = session.scalar(
+        select(AuditCheckpoint.event_id)
+        .where(AuditCheckpoint.id < checkpoint.id)
+        .order_by(AuditCheckpoint.id.desc())
+        .limit(1)
+    )
+    return ChainReport(proven or 0, checkpoint.event_id, problem)
+
+
+class ChainContradicted(Conflict):
+    """A new checkpoint was asked for over a chain that an earlier checkpoint contradicts."""
+
+
+def _refuse(reason: str) -> ChainContradicted:
+    return ChainContradicted(f"no checkpoint signed: {reason}", field="audit", rule="checkpoint_contradicted")
 
 
 def record_checkpoint(session: Session, settings: Settings, *, event_id: int) -> AuditCheckpoint:
-    """Sign and store a checkpoint at `event_id`, the last event a full check found intact."""
+    """Sign and store a checkpoint at `event_id`, the last event a full check found intact; refused
+    when any stored checkpoint contradicts the chain."""
+    found = contradiction(session, settings)
+    if found is not None:
+        raise _refuse(found[1])
     signer = current_signer(session, settings)
     begin_write(session)
     head = session.get(AuditEvent, event_id)
     if head is None:
         raise ValueError(f"no audit event {event_id} to sign")
+    newest = newest_checkpoint(session)
+    if newest is not None and newest.event_id > head.id:
+        raise _refuse(f"checkpoint {newest.id} was signed at a later event ({newest.event_id})")
     now = utcnow()
-    claims = {"chain": "trikecert-audit", "event": head.id, "hash": head.hash, "at": now.isoformat()}
-    token = jws.serialize_compact(
-        {"alg": ALGORITHM, "kid": signer.kid},
-        json.dumps(claims, separators=(",", ":"), sort_keys=True).encode(),
-        signer.key,
-        algorithms=[ALGORITHM],
-    )
+    claims = {
+        "chain": "trikecert-audit",
+        "event": head.id,
+        "hash": head.hash,
+        "at": now.isoformat(),
+        "previous": token_digest(newest.token) if newest is not None else None,
+    }
     checkpoint = AuditCheckpoint(
-        event_id=head.id, hash=head.hash, created_at=now, kid=signer.kid, token=token
+        event_id=head.id, hash=head.hash, created_at=now, kid=signer.kid, token=sign_claims(signer, claims)
     )
     session.add(checkpoint)
     session.commit()
@@ -115,15 +187,27 @@ def checkpoint_claims(token: str, jwks: dict[str, Any]) -> dict[str, Any] | None
     return claims if isinstance(claims, dict) else None
 
 
-def _checkpoint_problem(session: Session, checkpoint: AuditCheckpoint, settings: Settings) -> str | None:
-    claims = checkpoint_claims(checkpoint.token, published_keys(session, settings))
+def _checkpoint_problem(
+    session: Session,
+    checkpoint: AuditCheckpoint,
+    jwks: dict[str, Any],
+    previous: AuditCheckpoint | None = None,
+) -> str | None:
+    claims = checkpoint_claims(checkpoint.token, jwks)
     if claims is None or claims.get("event") != checkpoint.event_id or claims.get("hash") != checkpoint.hash:
         return f"checkpoint {checkpoint.id} is not as a published key signed it"
+    # Checkpoints signed before `previous` was a claim carry none; every later one names the last.
+    if previous is not None and "previous" in claims and claims["previous"] != token_digest(previous.token):
+        return f"checkpoint {checkpoint.id} does not follow checkpoint {previous.id} as it was signed"
     event = session.get(AuditEvent, checkpoint.event_id)
     if event is None:
         return f"event {checkpoint.event_id} is missing: checkpoint {checkpoint.id} was signed at it"
     if event.hash != checkpoint.hash or event_hash(_fields(event)) != event.hash:
-        return f"event {checkpoint.event_id} was changed after checkpoint {checkpoint.id} was signed"
+        signed = checkpoint.created_at.strftime("%Y-%m-%d %H:%M UTC")
+        return (
+            f"event {checkpoint.event_id} was changed after checkpoint {checkpoint.id} was signed "
+            f"({signed}): the chain as stored contradicts checkpoint {checkpoint.id}"
+        )
     return None
 
 
@@ -133,7 +217,7 @@ def verify_since_checkpoint(session: Session, settings: Settings) -> PageCheck:
     checkpoint = newest_checkpoint(session)
     if checkpoint is None:
         return PageCheck(verify_chain(_events(session)), None)
-    problem = _checkpoint_problem(session, checkpoint, settings)
+    problem = _checkpoint_problem(session, checkpoint, published_keys(session, settings))
     if problem is not None:
         return PageCheck(ChainReport(0, checkpoint.event_id, problem), checkpoint)
     rest = verify_chain(

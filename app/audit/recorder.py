@@ -87,9 +87,7 @@ AUDITED: dict[type[Any], Audited] = {
     VehicleDynamicsRevision: Audited(
         "vehicle", ("revision", *DYNAMICS_FIELDS, "seat_heights_m"), lambda r: r.vehicle.registration_number
     ),
-    SigningKey: Audited(
-        "signing_key", ("kid", "source", "active"), lambda r: r.kid, frozenset({"private_pem"})
-    ),
+    SigningKey: Audited("signing_key", ("kid", "source", "active"), lambda r: r.kid),
     Certificate: Audited("certificate", ("kind", "registration_number", "inspection_id"), lambda r: r.number),
     CertificateRevocation: Audited("certificate", ("reason",), lambda r: r.certificate.number),
     LoginAttempt: Audited("user", ("email", "client_ip"), lambda r: r.user_id),

@@ -14,6 +14,7 @@ from sqlalchemy.orm import Session
 from app.audit.chain import ChainReport
 from app.audit.checkpoint import verify_all
 from app.audit.models import AuditEvent
+from app.config import Settings, get_settings
 
 ACTOR_KINDS = ("user", "station", "command_line", "anonymous")
 
@@ -94,6 +95,7 @@ def record_types_on_record(session: Session) -> list[str]:
     return list(session.scalars(select(AuditEvent.target_type).distinct().order_by(AuditEvent.target_type)))
 
 
-def verify_log(session: Session) -> ChainReport:
-    """Check every event of the log against its hash and its place in the chain, from the first."""
-    return verify_all(session)
+def verify_log(session: Session, settings: Settings | None = None) -> ChainReport:
+    """Check every event of the log against its hash and its place in the chain, from the first, and
+    every stored checkpoint against the chain."""
+    return verify_all(session, settings or get_settings())

@@ -29,10 +29,11 @@ from typing import Any
 import base45  # type: ignore[import-untyped]
 import cbor2
 from cryptography.exceptions import InvalidSignature
-from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
 from app.certificates.claims import Claims, PayloadRefused, Verified, find_key, tampered
 from app.certificates.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
+from app.certificates.signer import SignsBytes
 from app.certificates.validity import local_date
 from app.inspections.wording import verdict_mark
 
@@ -68,7 +69,7 @@ def _sig_structure(protected: bytes, payload: bytes) -> bytes:
     return cbor2.dumps(["Signature1", protected, b"", payload])
 
 
-def sign_cwt(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
+def sign_cwt(claims: Claims, *, kid: str, key: SignsBytes) -> str:
     """The base45 text of the signed COSE_Sign1 CWT of these claims (needs `issued_at`, `expires_at`)."""
     number = parse_number(claims.number)
     protected = cbor2.dumps({HEADER_ALG: EDDSA, HEADER_KID: kid_bytes(kid)})

@@ -1,78 +1,55 @@
-"""Signing keys: created on first use (or given by TRIKECERT_SIGNING_KEY), rotated, published as a JWKS.
+"""Signing keys: held outside the database (a key file, a PKCS#11 token, or the configuration),
+rotated, published as a JWKS.
 
-Every key ever used stays in the `signing_key` table (the private half only when the database
-made it), so the published key set verifies every certificate ever issued. Each published key
-also carries its COSE_Key form (`cose_key`), for the CWT payloads of the QR codes.
+The private key is never stored in the database: the store the settings name (signer.py) holds it,
+and the `signing_key` table keeps each key's public half and metadata (kid, source, the period it
+signed in), so the published key set verifies every certificate ever issued. The store is the
+truth about which key signs: a key found there that the table does not know yet is recorded and
+every other key retired; a key the table has retired never signs again. Each published key also
+carries its COSE_Key form (`cose_key`), for the CWT payloads of the QR codes.
 """
 
 from __future__ import annotations
 
 import base64
-import binascii
-from dataclasses import dataclass
 from typing import Any
 
 import cbor2
-from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
 from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from app.certificates.cwt import EDDSA, kid_bytes
 from app.certificates.jws import ALGORITHM
+from app.certificates.keyfile import KeyFile, default_key_path
 from app.certificates.models import SigningKey
+from app.certificates.signer import (
+    KID_LENGTH,
+    ConfiguredKey,
+    KeyStore,
+    KeyUnavailable,
+    Signer,
+    parse_private_key,
+    private_pem,
+)
 from app.config import Settings
 from app.db import utcnow
-from app.errors import Conflict, InvalidInput
 
-KID_LENGTH = 16
-
-
-@dataclass(frozen=True)
-class Signer:
-    """The private key that signs new payloads, and its id."""
-
-    kid: str
-    key: OKPKey
-
-    @property
-    def ed25519(self) -> Ed25519PrivateKey:
-        """The private key as `cryptography` holds it (the CWT signer takes it)."""
-        private = self.key.private_key
-        assert isinstance(private, Ed25519PrivateKey)
-        return private
-
-
-def parse_private_key(value: str) -> Ed25519PrivateKey:
-    """An Ed25519 private key from PEM text, base64 of PEM, or base64 of the 32-byte seed."""
-    text = value.strip().replace("\\n", "\n")
-    try:
-        if "-----BEGIN" not in text:
-            raw = base64.b64decode(text, validate=True)
-            if len(raw) == 32:
-                return Ed25519PrivateKey.from_private_bytes(raw)
-            text = raw.decode()
-        key = serialization.load_pem_private_key(text.encode(), password=None)
-    except (ValueError, TypeError, binascii.Error, UnicodeDecodeError) as error:
-        raise InvalidInput(
-            "TRIKECERT_SIGNING_KEY: give an Ed25519 private key as PEM, base64 of the PEM, "
-            "or base64 of the 32-byte seed",
-            field="signing_key",
-            rule="format",
-        ) from error
-    if not isinstance(key, Ed25519PrivateKey):
-        raise InvalidInput(
-            "TRIKECERT_SIGNING_KEY: the key is not an Ed25519 key", field="signing_key", rule="type"
-        )
-    return key
-
-
-def private_pem(key: Ed25519PrivateKey) -> str:
-    """The private key as unencrypted PKCS#8 PEM."""
-    return key.private_bytes(
-        serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption()
-    ).decode()
+__all__ = [
+    "KID_LENGTH",
+    "Signer",
+    "current_signer",
+    "key_store",
+    "kid_of",
+    "okp_key",
+    "parse_private_key",
+    "private_pem",
+    "public_jwk",
+    "published_keys",
+    "rotate_signing_key",
+]
 
 
 def okp_key(key: Ed25519PrivateKey) -> OKPKey:
@@ -91,6 +68,65 @@ def public_jwk(key: OKPKey) -> dict[str, Any]:
     return {"kty": public["kty"], "crv": public["crv"], "x": public["x"]}
 
 
+def key_store(settings: Settings) -> KeyStore:
+    """Where the settings hold the signing key: TRIKECERT_SIGNING_KEY, else a PKCS#11 token when
+    TRIKECERT_PKCS11_MODULE is set, else the key file."""
+    if settings.signing_key is not None:
+        return ConfiguredKey(settings.signing_key.get_secret_value())
+    if settings.pkcs11_module is not None:
+        from app.certificates.pkcs11_token import token_store
+
+        return token_store(settings)
+    return KeyFile(default_key_path(settings))
+
+
+def _retire_others(session: Session, kid: str) -> None:
+    now = utcnow()
+    for row in session.scalars(select(SigningKey).where(SigningKey.active.is_(True), SigningKey.kid != kid)):
+        row.active = False
+        row.retired_at = now
+
+
+def _record(session: Session, signer: Signer) -> None:
+    """Record the signer's public key as the active one and retire every other (flushed)."""
+    _retire_others(session, signer.kid)
+    row = SigningKey(kid=signer.kid, public_jwk=signer.public_jwk(), source=signer.source, active=True)
+    try:
+        with session.begin_nested():
+            session.add(row)
+    except IntegrityError:
+        pass  # another process recorded it at the same moment
+
+
+def current_signer(session: Session, settings: Settings) -> Signer:
+    """The key that signs now, from the store the settings name; recorded (public half) if new."""
+    store = key_store(settings)
+    signer = store.current()
+    row = session.scalar(select(SigningKey).where(SigningKey.kid == signer.kid))
+    if row is None:
+        _record(session, signer)
+    elif not row.active:
+        raise KeyUnavailable(
+            f"the signing key held in {store.describe()} ({signer.kid}) was retired on "
+            f"{row.retired_at:%Y-%m-%d} and never signs again; rotate to a new key "
+            "(`trikecert rotate-signing-key`)",
+            field="signing_key",
+            rule="retired",
+        )
+    return signer
+
+
+def rotate_signing_key(session: Session, settings: Settings) -> SigningKey:
+    """Put a new key in force in the store (destroying the old private key), retire every other key in
+    the table and record the new one; old public keys stay published. Commits."""
+    signer = key_store(settings).rotate()
+    _record(session, signer)
+    session.commit()
+    row = session.scalar(select(SigningKey).where(SigningKey.kid == signer.kid))
+    assert row is not None
+    return row
+
+
 COSE_OKP, COSE_ED25519 = 1, 6  # COSE key type OKP and curve Ed25519 (RFC 9053)
 
 
@@ -99,56 +135,6 @@ def cose_key(jwk: dict[str, Any], kid: str) -> str:
     x = base64.urlsafe_b64decode(jwk["x"] + "=" * (-len(jwk["x"]) % 4))
     key = {1: COSE_OKP, 2: kid_bytes(kid), 3: EDDSA, -1: COSE_ED25519, -2: x}
     return base64.urlsafe_b64encode(cbor2.dumps(key)).rstrip(b"=").decode()
-
-
-def _record(session: Session, key: OKPKey, *, pem: str | None, source: str) -> SigningKey:
-    row = SigningKey(kid=kid_of(key), public_jwk=public_jwk(key), private_pem=pem, source=source, active=True)
-    session.add(row)
-    session.flush()
-    return row
-
-
-def new_database_key(session: Session) -> SigningKey:
-    """Create a fresh key, kept in the database, and make it the active one (flushed, not committed)."""
-    private = Ed25519PrivateKey.generate()
-    return _record(session, okp_key(private), pem=private_pem(private), source="database")
-
-
-def current_signer(session: Session, settings: Settings) -> Signer:
-    """The key that signs now: the configured one, else the newest active database key (made on first use)."""
-    if settings.signing_key is not None:
-        key = okp_key(parse_private_key(settings.signing_key.get_secret_value()))
-        kid = kid_of(key)
-        if session.scalar(select(SigningKey.id).where(SigningKey.kid == kid)) is None:
-            _record(session, key, pem=None, source="configuration")
-        return Signer(kid=kid, key=key)
-    row = session.scalar(
-        select(SigningKey)
-        .where(SigningKey.active.is_(True), SigningKey.private_pem.is_not(None))
-        .order_by(SigningKey.id.desc())
-        .limit(1)
-    )
-    if row is None:
-        row = new_database_key(session)
-    assert row.private_pem is not None
-    return Signer(kid=row.kid, key=OKPKey.import_key(row.private_pem))
-
-
-def rotate_signing_key(session: Session, settings: Settings) -> SigningKey:
-    """Retire the active database keys and make a new one; old keys stay published. Commits."""
-    if settings.signing_key is not None:
-        raise Conflict(
-            "the signing key is given by TRIKECERT_SIGNING_KEY; rotate it by changing that setting",
-            field="signing_key",
-            rule="configured",
-        )
-    now = utcnow()
-    for row in session.scalars(select(SigningKey).where(SigningKey.active.is_(True))):
-        row.active = False
-        row.retired_at = now
-    row = new_database_key(session)
-    session.commit()
-    return row
 
 
 def published_keys(session: Session, settings: Settings) -> dict[str, Any]:

@@ -27,19 +27,21 @@ from app.db import Base, UTCDateTime, utcnow
 
 KINDS = ("compliant", "refusal")
 AUDIT_ACTIONS = ("issue", "reissue", "supersede", "revoke")
+KEY_SOURCES = ("database", "configuration", "file", "pkcs11")
 
 
 class SigningKey(Base):
-    """An Ed25519 key that signs QR payloads; kept for good so old certificates stay verifiable."""
+    """The public half of an Ed25519 key that signs QR payloads and audit checkpoints; kept for good so
+    old certificates stay verifiable. The private half is held outside the database (keys.py)."""
 
     __tablename__ = "signing_key"
-    __table_args__ = (CheckConstraint("source IN ('database', 'configuration')", name="source"),)
+    __table_args__ = (CheckConstraint(f"source IN {KEY_SOURCES!r}", name="source"),)
 
     id: Mapped[int] = mapped_column(primary_key=True)
     kid: Mapped[str] = mapped_column(String(32), unique=True)
     public_jwk: Mapped[dict[str, Any]] = mapped_column(JSON)
-    # None when the private key is given by configuration (TRIKECERT_SIGNING_KEY) and never stored.
-    private_pem: Mapped[str | None] = mapped_column(Text)
+    # Where the private key is held (never here): "file", "pkcs11", "configuration"; "database" for a
+    # key made while keys were kept in the database (moved out or destroyed by c27a1e000001).
     source: Mapped[str] = mapped_column(String(16))
     # active_history: the stored values are loaded before a change, so guard.py sees a revival.
     active: Mapped[bool] = mapped_column(Boolean, default=True, active_history=True)

@@ -240,7 +240,7 @@ def _create(
         issued_at=issued_at,
         expires_at=expires_at,
     )
-    token = sign_payload(claims, kid=signer.kid, key=signer.ed25519)
+    token = sign_payload(claims, kid=signer.kid, key=signer)
     base = verify_base(settings)
     pdf = render_pdf(
         CertificateDocument(

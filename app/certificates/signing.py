@@ -13,12 +13,11 @@ from dataclasses import dataclass
 from typing import Any
 from urllib.parse import quote, unquote, urlsplit
 
-from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
-
 from app.certificates.claims import Claims, PayloadRefused, Verified
 from app.certificates.cwt import sign_cwt, verify_cwt
 from app.certificates.jws import looks_like_jws, verify_jws
 from app.certificates.numbers import normalise
+from app.certificates.signer import SignsBytes
 
 __all__ = [
     "Claims",
@@ -40,7 +39,7 @@ _PATH_SAFE = "$*+-.:"
 _SHORT = re.compile(r"/[Vv]/(?P<payload>.+)$")
 
 
-def sign_payload(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
+def sign_payload(claims: Claims, *, kid: str, key: SignsBytes) -> str:
     """The QR payload of new certificates: the base45 COSE_Sign1 CWT of the claims."""
     return sign_cwt(claims, kid=kid, key=key)
 

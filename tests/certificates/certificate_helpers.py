@@ -5,13 +5,13 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.certificates import service
 from app.certificates.jws import sign_jws
 from app.certificates.keys import okp_key
+from app.certificates.signer import MemorySigner
 from app.certificates.signing import Claims
 
 VEHICLES = "/api/v1/vehicles"
@@ -59,9 +59,10 @@ def study_certificate(api: TestClient) -> dict[str, Any]:
     return certify(api, weigh(api))
 
 
-def sign_as_before(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
-    """The payload as certificates were signed before the CWT: a JWS compact token."""
-    return sign_jws(claims, kid=kid, key=okp_key(key))
+def sign_as_before(claims: Claims, *, kid: str, key: MemorySigner) -> str:
+    """The payload as certificates were signed before the CWT: a JWS compact token (by the key file's
+    key, which the tests hold in memory)."""
+    return sign_jws(claims, kid=kid, key=okp_key(key.private))
 
 
 def issue_as_before(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -112,7 +112,7 @@ def test_a_signing_key_may_be_retired_but_nothing_else(revoked: dict[str, Any], 
     key = session.scalars(select(SigningKey)).one()
     key.active = False
     session.commit()
-    key.private_pem = None
+    key.source = "pkcs11"
     with pytest.raises(ImmutableRecord):
         session.commit()
     session.rollback()
