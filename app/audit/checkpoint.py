@@ -202,11 +202,14 @@ def _checkpoint_problem(
     event = session.get(AuditEvent, checkpoint.event_id)
     if event is None:
         return f"event {checkpoint.event_id} is missing: checkpoint {checkpoint.id} was signed at it"
-    if event.hash != checkpoint.hash or event_hash(_fields(event)) != event.hash:
+    if event_hash(_fields(event)) != event.hash:
+        return f"event {checkpoint.event_id} was changed after checkpoint {checkpoint.id} was signed"
+    if event.hash != checkpoint.hash:
         signed = checkpoint.created_at.strftime("%Y-%m-%d %H:%M UTC")
         return (
-            f"event {checkpoint.event_id} was changed after checkpoint {checkpoint.id} was signed "
-            f"({signed}): the chain as stored contradicts checkpoint {checkpoint.id}"
+            f"the chain up to event {checkpoint.event_id} was rewritten after checkpoint {checkpoint.id} "
+            f"was signed ({signed}): the checkpoint signed hash {checkpoint.hash[:16]}…, the event now "
+            f"holds {event.hash[:16]}…"
         )
     return None
 

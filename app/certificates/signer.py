@@ -18,7 +18,7 @@ from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
 from joserfc.jwk import OKPKey
 
-from app.errors import Conflict, InvalidInput
+from app.errors import Conflict, InvalidInput, ServiceError
 
 KID_LENGTH = 16
 
@@ -69,8 +69,11 @@ class KeyStore(Protocol):
         ...
 
 
-class KeyUnavailable(Conflict):
-    """The signing key cannot be read, made or rotated where the settings say it is held."""
+class KeyUnavailable(ServiceError):
+    """The signing key cannot be read, made or used where the settings say it is held (503: nothing
+    is signed until the operator puts it right)."""
+
+    status = 503
 
 
 def public_jwk_of(public: Ed25519PublicKey) -> dict[str, Any]:
@@ -150,7 +153,7 @@ class ConfiguredKey:
 
     def rotate(self) -> Signer:
         """Refused: the operator rotates a configured key by changing the setting."""
-        raise KeyUnavailable(
+        raise Conflict(
             "the signing key is given by TRIKECERT_SIGNING_KEY; rotate it by changing that setting",
             field="signing_key",
             rule="configured",
