@@ -8,18 +8,19 @@ import base64
 import json
 import os
 import stat
+import uuid
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 from alembic import command
-from api.test_migrations import scratch_engine  # noqa: F401  (a fixture)
 from certificate_helpers import INSPECTIONS, certify, register, study_certificate, weigh
 from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
-from sqlalchemy import Engine, inspect, select, text
+from sqlalchemy import Engine, create_engine, inspect, select, text
+from sqlalchemy.engine import make_url
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS
@@ -30,6 +31,7 @@ from app.certificates.keys import kid_of, okp_key, public_jwk
 from app.certificates.models import SigningKey
 from app.certificates.signer import MemorySigner, private_pem
 from app.cli import main
+from app.db import make_engine
 from app.migrate import alembic_config, upgrade
 
 BEFORE = "a9c3e5f7b201"  # the revision before the key left the database
@@ -61,7 +63,7 @@ def secrets_of(key: Ed25519PrivateKey) -> list[str]:
 
 def everything_readable(engine: Engine) -> str:
     """Every value of every table, as the given role reads them, in one string."""
-    parts = []
+    parts: list[str] = []
     with engine.connect() as connection:
         for table in inspect(connection).get_table_names():
             for row in connection.execute(text(f'SELECT * FROM "{table}"')):
@@ -173,6 +175,29 @@ def study_certificate_again(api: TestClient) -> dict[str, Any]:
 # ---- moving an existing database's key out -------------------------------------------------------
 
 
+@pytest.fixture
+def scratch_engine(tmp_path: Path) -> Iterator[Engine]:
+    """An empty database of the run's kind: a temporary SQLite file, or a new PostgreSQL database."""
+    server_url = os.environ.get("TRIKECERT_TEST_DATABASE_URL", "")
+    if not server_url.startswith("postgresql"):
+        engine = make_engine(f"sqlite:///{tmp_path / 'scratch.db'}")
+        yield engine
+        engine.dispose()
+        return
+    name = f"trikecert_scratch_{uuid.uuid4().hex[:12]}"
+    admin = create_engine(server_url, isolation_level="AUTOCOMMIT")
+    with admin.connect() as connection:
+        connection.execute(text(f'CREATE DATABASE "{name}"'))
+    engine = make_engine(make_url(server_url).set(database=name).render_as_string(hide_password=False))
+    try:
+        yield engine
+    finally:
+        engine.dispose()
+        with admin.connect() as connection:
+            connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+        admin.dispose()
+
+
 def _database_key(active: bool) -> tuple[Ed25519PrivateKey, dict[str, Any]]:
     key = Ed25519PrivateKey.generate()
     okp = okp_key(key)
@@ -187,7 +212,7 @@ def _database_key(active: bool) -> tuple[Ed25519PrivateKey, dict[str, Any]]:
 
 
 def test_the_migration_moves_the_active_key_to_the_key_file_once_and_destroys_the_rest(
-    scratch_engine: Engine,  # noqa: F811
+    scratch_engine: Engine,
     key_file: Path,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
