@@ -22,7 +22,13 @@ def test_trikecert_version_prints_the_installed_version() -> None:
 
 
 def test_files_the_service_leaves_beside_its_sqlite_database_are_ignored_by_git() -> None:
-    names = ["trikecert.db", "trikecert.db-wal", "trikecert.db-shm", "trikecert.db-writer.lock"]
+    names = [
+        "trikecert.db",
+        "trikecert.db-wal",
+        "trikecert.db-shm",
+        "trikecert.db-writer.lock",
+        "trikecert-signing-key.pem",  # the signing key, made on first use beside the database
+    ]
     done = subprocess.run(
         ["git", "check-ignore", "--no-index", *names], capture_output=True, text=True, check=False, cwd=ROOT
     )

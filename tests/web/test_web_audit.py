@@ -8,6 +8,7 @@ import csv
 import html
 import io
 import json
+import os
 import re
 import subprocess
 import sys
@@ -39,6 +40,15 @@ from app.stations.service import create_station
 from web.webtools import ADMIN_EMAIL, PASSWORD, hidden, post_form, sign_in
 
 BIN = Path(sys.executable).parent
+
+
+def operator_environment(database_url: str) -> dict[str, str]:
+    """What an operator's shell holds to run `trikecert`: the database and where the signing key is."""
+    return {
+        "TRIKECERT_DATABASE_URL": database_url,
+        "TRIKECERT_SIGNING_KEY_FILE": os.environ["TRIKECERT_SIGNING_KEY_FILE"],
+        "PATH": str(BIN),
+    }
 
 
 def events(session: Session) -> list[AuditEvent]:
@@ -116,7 +126,7 @@ def test_an_edited_event_is_shown_as_tampering_on_the_page_and_by_the_command(
     assert f"Event {target.id} was changed after it was recorded" in page.text
     done = subprocess.run(
         [BIN / "trikecert", "audit-verify"],
-        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        env=operator_environment(database_url),
         capture_output=True,
         text=True,
         check=False,
@@ -140,7 +150,7 @@ def test_the_command_says_an_untouched_log_is_intact(session: Session, database_
     create_station(session, name="Agbara weighbridge")
     done = subprocess.run(
         [BIN / "trikecert", "audit-verify"],
-        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        env=operator_environment(database_url),
         capture_output=True,
         text=True,
         check=False,
@@ -196,7 +206,7 @@ def audit_verify(database_url: str) -> subprocess.CompletedProcess[str]:
     """`trikecert audit-verify`, as an operator runs it."""
     return subprocess.run(
         [BIN / "trikecert", "audit-verify"],
-        env={"TRIKECERT_DATABASE_URL": database_url, "PATH": str(BIN)},
+        env=operator_environment(database_url),
         capture_output=True,
         text=True,
         check=False,
