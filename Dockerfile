@@ -12,7 +12,8 @@ COPY pyproject.toml README.md alembic.ini ./
 COPY app ./app
 COPY migrations ./migrations
 COPY templates ./templates
-RUN pip install . && useradd --system --uid 10001 --home-dir /srv/trikecert trikecert
+RUN pip install . && useradd --system --uid 10001 --home-dir /srv/trikecert trikecert \
+    && install -d -m 0700 -o trikecert /var/lib/trikecert/keys
 USER trikecert
 
 EXPOSE 8000
