@@ -12,8 +12,10 @@ from __future__ import annotations
 import base64
 import secrets
 import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +47,14 @@ class _Token:
         except (pkcs11.PKCS11Error, RuntimeError, OSError) as error:
             raise _unavailable(f"cannot open token {token_label!r} with {module}: {error!r}") from error
         self.lock = threading.Lock()
+
+    @contextmanager
+    def failures(self, doing: str) -> Iterator[None]:
+        """A token's refusal (removed, logged out, out of space) as a 503 naming what failed."""
+        try:
+            yield
+        except self.pkcs11.PKCS11Error as error:
+            raise _unavailable(f"cannot {doing}: {error!r}") from error
 
     def pairs(self, label: str) -> list[tuple[Any, Any]]:
         """The key pairs with this label, as (private, public), by kid."""
@@ -102,7 +112,7 @@ class TokenSigner:
     jwk: dict[str, Any]
     source: str = "pkcs11"
 
-    @property
+    @cached_property
     def kid(self) -> str:
         """The key id."""
         return kid_of_jwk(self.jwk)
@@ -113,7 +123,7 @@ class TokenSigner:
 
     def sign(self, data: bytes) -> bytes:
         """CKM_EDDSA on the token."""
-        with self.token.lock:
+        with self.token.lock, self.token.failures("sign"):
             signature: bytes = self.private.sign(data, mechanism=self.token.pkcs11.Mechanism.EDDSA)
         return signature
 
@@ -152,7 +162,7 @@ class TokenStore:
 
     def current(self) -> TokenSigner:
         """The pair with the key label; a rotation cut short is finished, a first pair made."""
-        with self.token.lock:
+        with self.token.lock, self.token.failures("find or make the signing key"):
             signer = self._in_force()
             if signer is None:
                 pending = self.token.pairs(self.key_label + PENDING)
@@ -166,7 +176,7 @@ class TokenStore:
 
     def rotate(self) -> TokenSigner:
         """A new pair under a temporary label, the old pair destroyed, the new one labelled."""
-        with self.token.lock:
+        with self.token.lock, self.token.failures("rotate the signing key"):
             self.token.generate(self.key_label + PENDING)
             for pair in self.token.pairs(self.key_label):
                 self.token.destroy(pair)

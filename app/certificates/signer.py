@@ -12,6 +12,7 @@ from __future__ import annotations
 import base64
 import binascii
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, Protocol
 
 from cryptography.hazmat.primitives import serialization
@@ -94,7 +95,7 @@ class MemorySigner:
     private: Ed25519PrivateKey
     source: str
 
-    @property
+    @cached_property
     def kid(self) -> str:
         """The key id."""
         return kid_of_jwk(self.public_jwk())
