@@ -26,11 +26,12 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS
 
 from app import config
-from app.certificates.keyfile import read_key_file
+from app.certificates.keyfile import default_key_path, read_key_file
 from app.certificates.keys import kid_of, okp_key, public_jwk
 from app.certificates.models import SigningKey
 from app.certificates.signer import MemorySigner, private_pem
 from app.cli import main
+from app.config import Settings
 from app.db import make_engine
 from app.migrate import alembic_config, upgrade
 
@@ -242,3 +243,16 @@ def test_the_migration_moves_the_active_key_to_the_key_file_once_and_destroys_th
         (retired_row["kid"], False, "database"),
         (active_row["kid"], True, "database"),
     ]
+
+
+def test_with_no_setting_the_key_file_lies_beside_the_sqlite_database(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("TRIKECERT_SIGNING_KEY_FILE", raising=False)
+    monkeypatch.chdir(tmp_path)
+    beside = Settings(database_url="sqlite:///./data/trikecert.db")
+    assert default_key_path(beside) == tmp_path / "data" / "trikecert-signing-key.pem"
+    server = Settings(database_url="postgresql+psycopg://app@db:5432/trikecert")
+    assert default_key_path(server) == tmp_path / "trikecert-signing-key.pem"
+    given = Settings(database_url="sqlite:///./trikecert.db", signing_key_file=tmp_path / "k" / "s.pem")
+    assert default_key_path(given) == tmp_path / "k" / "s.pem"
