@@ -99,7 +99,8 @@ BEGIN
        OR NEW.compliant IS DISTINCT FROM cases_compliant OR weighed.compliant IS DISTINCT FROM cases_compliant
        OR NEW.max_compliant_occupants IS DISTINCT FROM best
        OR weighed.max_compliant_occupants IS DISTINCT FROM best THEN
-        RAISE EXCEPTION 'trikecert: certificate % refused: compliant %, % occupants; inspection % says %, %',
+        RAISE EXCEPTION
+            'trikecert: % refused: compliant %, % occupants; the loading cases of inspection % say %, %',
             NEW.number, NEW.compliant, NEW.max_compliant_occupants, weighed.id,
             coalesce(cases_compliant, false), best USING ERRCODE = 'restrict_violation';
     END IF;
