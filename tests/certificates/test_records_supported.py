@@ -56,8 +56,11 @@ def stored(engine: Engine, number: str) -> dict[str, Any]:
 
 def vehicle_id(engine: Engine, plate: str) -> int:
     with engine.connect() as connection:
-        found: int = connection.scalar(select(VEHICLE.c.id).where(VEHICLE.c.registration_number == plate))
-    return found
+        return int(
+            connection.execute(
+                select(VEHICLE.c.id).where(VEHICLE.c.registration_number == plate)
+            ).scalar_one()
+        )
 
 
 def forged(template: dict[str, Any], **changes: Any) -> dict[str, Any]:
