@@ -10,7 +10,9 @@ vehicle's whole history to another plate with one UPDATE. Now, on both databases
   PostgreSQL its role has no UPDATE on `vehicle` at all, app/grants.py);
 - a certificate row must agree with its inspection: the same vehicle and plate, a kind that
   matches its verdict, and a verdict and occupancy that are those of the inspection's stored
-  loading cases (on PostgreSQL each case's verdict is re-checked from its exact LSF too); the
+  loading cases (on PostgreSQL each case's verdict is re-checked from its exact LSF too), as must
+  the facts it prints (its frozen snapshot: verdict, occupancy, plate, inspection, each case's
+  verdict); the
   inspection must be the vehicle's newest (or one that every later weighing of the vehicle agrees
   with, verdict and occupancy alike: so no certificate says more than the newest weighing found),
   never one whose certificate was revoked, and the new certificate must supersede the vehicle's
@@ -103,6 +105,18 @@ BEGIN
             'trikecert: % refused: compliant %, % occupants; the loading cases of inspection % say %, %',
             NEW.number, NEW.compliant, NEW.max_compliant_occupants, weighed.id,
             coalesce(cases_compliant, false), best USING ERRCODE = 'restrict_violation';
+    END IF;
+    IF (NEW.facts ->> 'compliant')::boolean IS DISTINCT FROM NEW.compliant
+       OR (NEW.facts ->> 'max_compliant_occupants')::integer IS DISTINCT FROM NEW.max_compliant_occupants
+       OR NEW.facts -> 'vehicle' ->> 'registration_number' IS DISTINCT FROM NEW.registration_number
+       OR (NEW.facts -> 'inspection' ->> 'id')::integer IS DISTINCT FROM weighed.id
+       OR json_array_length(NEW.facts -> 'cases') IS DISTINCT FROM cases
+       OR EXISTS (SELECT 1 FROM json_array_elements(NEW.facts -> 'cases') printed
+                  WHERE NOT EXISTS (SELECT 1 FROM loading_case stored WHERE stored.inspection_id = weighed.id
+                                    AND stored.occupants = (printed ->> 'occupants')::integer
+                                    AND stored.compliant = (printed ->> 'compliant')::boolean)) THEN
+        RAISE EXCEPTION 'trikecert: certificate % refused: the facts it prints are not those of inspection %',
+            NEW.number, weighed.id USING ERRCODE = 'restrict_violation';
     END IF;
     IF EXISTS (SELECT 1 FROM inspection later WHERE later.vehicle_id = weighed.vehicle_id
                AND (later.created_at, later.id) > (weighed.created_at, weighed.id)
@@ -234,6 +248,19 @@ _SQLITE_CERTIFICATE = " ".join(
             f"AND occupants >= 1 AND ({_FIRST_FAILING} IS NULL OR occupants < {_FIRST_FAILING})) "
             f"OR {_WEIGHED.format(column='max_compliant_occupants')} IS NOT NEW.max_compliant_occupants",
             "certificate refused: its verdict or occupancy differs from the loading cases of its inspection",
+        ),
+        _refuse(
+            "json_extract(NEW.facts, '$.compliant') IS NOT NEW.compliant "
+            "OR json_extract(NEW.facts, '$.max_compliant_occupants') IS NOT NEW.max_compliant_occupants "
+            "OR json_extract(NEW.facts, '$.vehicle.registration_number') IS NOT NEW.registration_number "
+            "OR json_extract(NEW.facts, '$.inspection.id') IS NOT NEW.inspection_id "
+            "OR json_array_length(NEW.facts, '$.cases') IS NOT "
+            "(SELECT count(*) FROM loading_case WHERE inspection_id = NEW.inspection_id) "
+            "OR EXISTS (SELECT 1 FROM json_each(NEW.facts, '$.cases') printed WHERE NOT EXISTS "
+            "(SELECT 1 FROM loading_case stored WHERE stored.inspection_id = NEW.inspection_id "
+            "AND stored.occupants = json_extract(printed.value, '$.occupants') "
+            "AND stored.compliant = json_extract(printed.value, '$.compliant')))",
+            "certificate refused: the facts it prints are not those of its inspection",
         ),
         _refuse(
             "EXISTS (SELECT 1 FROM inspection weighed JOIN inspection later "

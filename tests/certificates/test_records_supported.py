@@ -18,6 +18,7 @@ from sqlalchemy.orm import Session
 from app.audit.models import AuditEvent
 from app.audit.service import verify_log
 from app.certificates.actors import Actor
+from app.certificates.facts import facts_of
 from app.certificates.guard import ImmutableRecord, immutability_lifted
 from app.certificates.models import Certificate, CertificateRevocation
 from app.certificates.service import reissue_certificate, revoke_certificate
@@ -63,6 +64,13 @@ def vehicle_id(engine: Engine, plate: str) -> int:
         )
 
 
+def facts_for(session: Session, inspection_id: int) -> dict[str, Any]:
+    """The facts a certificate of this inspection prints, made as the service makes them."""
+    facts = facts_of(session, session.get_one(Inspection, inspection_id), authority="insider")
+    session.rollback()
+    return facts.to_json()
+
+
 def forged(template: dict[str, Any], **changes: Any) -> dict[str, Any]:
     """A certificate row as an insider would write it: a genuine one's columns, renumbered and changed."""
     row = {**template, "number": "TRK-2026-990001-X", "year": 2026, "sequence": 990001, **changes}
@@ -95,6 +103,22 @@ def test_a_compliant_certificate_for_a_non_compliant_inspection_is_refused(
     ):
         row = forged(genuine, supersedes_id=genuine["id"], **changes)
         assert "loading cases" in refused(engine, CERTIFICATE, row)
+    # Nor may the facts it prints (the page's occupancy and Table 4) say more than the row.
+    facts = genuine["facts"]
+    printed = {
+        **facts,
+        "compliant": True,
+        "max_compliant_occupants": 3,
+        "cases": [{**case, "compliant": True} for case in facts["cases"]],
+    }
+    for lie in (
+        {"compliant": True},
+        {"max_compliant_occupants": 3},
+        {"cases": printed["cases"]},
+        {"vehicle": {**facts["vehicle"], "registration_number": FRONT_HEAVY_PLATE}},
+    ):
+        row = forged(genuine, supersedes_id=genuine["id"], facts={**facts, **lie})
+        assert "facts" in refused(engine, CERTIFICATE, row)
     # The kind must say what the verdict says.
     row = forged(genuine, supersedes_id=genuine["id"], kind="compliant")
     assert "kind" in refused(engine, CERTIFICATE, row)
@@ -112,7 +136,7 @@ def test_a_certificate_on_another_plate_or_vehicle_than_weighed_is_refused(
 
 
 def test_a_certificate_of_an_earlier_weighing_that_a_later_one_contradicts_is_refused(
-    records: dict[str, Any], api: TestClient, engine: Engine
+    records: dict[str, Any], api: TestClient, engine: Engine, session: Session
 ) -> None:
     genuine = stored(engine, records["refusal"]["number"])
     passed = weigh(api, FRONT_HEAVY_PLATE, FRONT_HEAVY_READINGS)
@@ -123,6 +147,7 @@ def test_a_certificate_of_an_earlier_weighing_that_a_later_one_contradicts_is_re
         compliant=True,
         max_compliant_occupants=2,
         inspection_id=passed,
+        facts=facts_for(session, passed),
         vehicle_id=vehicle_id(engine, FRONT_HEAVY_PLATE),
         registration_number=FRONT_HEAVY_PLATE,
         supersedes_id=None,
@@ -157,7 +182,7 @@ def test_a_certificate_that_does_not_supersede_the_current_one_is_refused(
 
 
 def test_a_certificate_without_its_audit_event_is_refused(
-    records: dict[str, Any], api: TestClient, engine: Engine
+    records: dict[str, Any], api: TestClient, engine: Engine, session: Session
 ) -> None:
     genuine = stored(engine, records["refusal"]["number"])
     passed = weigh(api, FRONT_HEAVY_PLATE, FRONT_HEAVY_READINGS)
@@ -167,6 +192,7 @@ def test_a_certificate_without_its_audit_event_is_refused(
         compliant=True,
         max_compliant_occupants=2,
         inspection_id=passed,
+        facts=facts_for(session, passed),
         vehicle_id=vehicle_id(engine, FRONT_HEAVY_PLATE),
         registration_number=FRONT_HEAVY_PLATE,
         supersedes_id=None,
