@@ -319,7 +319,9 @@ def test_the_apps_own_issue_reissue_and_revoke_pass_the_triggers_and_are_logged(
         session, number=number, actor=actor, reason="lost", settings=get_settings()
     )
     revoke_certificate(session, number=reissued.number, actor=actor, reason="weighed wrongly")
-    events = session.scalars(select(AuditEvent).where(AuditEvent.target_type == "certificate")).all()
+    events = session.scalars(
+        select(AuditEvent).where(AuditEvent.target_type == "certificate").order_by(AuditEvent.id)
+    ).all()
     assert [(event.action, event.target_id) for event in events] == [
         ("refusal.issued", number),
         ("refusal.issued", reissued.number),
