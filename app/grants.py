@@ -28,7 +28,7 @@ PRIVILEGES: dict[str, str] = {
     "certificate_audit": APPEND_ONLY,
     "signing_key": "SELECT, INSERT, UPDATE (active, retired_at)",  # retiring; the trigger keeps it so
     "certificate_sequence": EDITABLE,  # the yearly counter's upsert
-    "vehicle": EDITABLE,
+    "vehicle": APPEND_ONLY,  # never updated: the plate is kept as weighed (a trigger refuses a change)
     "vehicle_dynamics_revision": APPEND_ONLY,  # every change of the figures kept
     "seat": DISPOSABLE,  # a vehicle's seats are replaced when it is edited
     "station": EDITABLE,

@@ -108,11 +108,13 @@ def load(
             # over `days` days back from now (ids are not in time order, as after a backfill).
             db.execute(
                 text(
-                    "INSERT INTO inspection (id, vehicle_id, station_id, created_at, wheelbase_m, "
-                    "occupant_mass_kg, sum_tolerance, rules_version, occupant_config, front_kg, "
+                    "INSERT INTO inspection (id, vehicle_id, registration_number, station_id, created_at, "
+                    "wheelbase_m, occupant_mass_kg, sum_tolerance, rules_version, occupant_config, front_kg, "
                     "left_rear_kg, right_rear_kg, overall_kg, cg_from_front_m, compliant, "
                     "max_compliant_occupants) "
-                    "SELECT i, 1 + (i * 7919) % :vehicles, 1 + (i * 104729) % :stations, "
+                    "SELECT i, 1 + (i * 7919) % :vehicles, "
+                    "'SCL ' || lpad(CAST(1 + (i * 7919) % :vehicles AS text), 6, '0'), "
+                    "1 + (i * 104729) % :stations, "
                     ":now - ((i * 2654435761) % (:days * 86400)) * interval '1 second', "
                     "2.0, 72, 0.01, 'v1', CAST(:config AS json), 108, 115, 135, 359, 1.1, "
                     "(i % 10) <> 0, CASE WHEN (i % 10) <> 0 THEN 3 ELSE 2 END "

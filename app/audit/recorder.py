@@ -141,12 +141,22 @@ def _changed(record: Any, audited: Audited) -> tuple[str, dict[str, Any]] | None
     return f"{audited.target_type}.{named or 'changed'}", details
 
 
-def _events(session: Session) -> list[tuple[Audited, Any, str, dict[str, Any]]]:
+# Their events are written before their rows: the database refuses a certificate or a revocation
+# whose event is not there (SQLite checks at the INSERT, having no check at commit).
+EVENT_FIRST: tuple[type[Any], ...] = (Certificate, CertificateRevocation)
+
+
+def _created_events(session: Session, *, first: bool) -> list[tuple[Audited, Any, str, dict[str, Any]]]:
     found: list[tuple[Audited, Any, str, dict[str, Any]]] = []
     for record in session.new:
         audited = AUDITED.get(type(record))
-        if audited is not None:
+        if audited is not None and isinstance(record, EVENT_FIRST) == first:
             found.append((audited, record, *_created(record, audited)))
+    return found
+
+
+def _events(session: Session) -> list[tuple[Audited, Any, str, dict[str, Any]]]:
+    found = _created_events(session, first=False)
     for record in session.dirty:
         audited = AUDITED.get(type(record))
         change = _changed(record, audited) if audited is not None else None
@@ -176,9 +186,17 @@ def record_event(
     _append(session, [(target_type, target_id, action, details)])
 
 
+@event.listens_for(Session, "before_flush")
+def _record_first(session: Session, _flush: UOWTransaction, _instances: object) -> None:
+    _append_found(session, _created_events(session, first=True))
+
+
 @event.listens_for(Session, "after_flush")
 def _record(session: Session, _flush: UOWTransaction) -> None:
-    found = _events(session)
+    _append_found(session, _events(session))
+
+
+def _append_found(session: Session, found: list[tuple[Audited, Any, str, dict[str, Any]]]) -> None:
     if found:
         _append(
             session,

@@ -278,7 +278,7 @@ def facts_of(
     return Facts(
         authority=authority,
         vehicle=VehicleFacts(
-            registration_number=vehicle.registration_number,
+            registration_number=inspection.registration_number,  # as weighed
             make=vehicle.make,
             model=vehicle.model,
             model_year=vehicle.model_year,

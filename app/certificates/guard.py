@@ -2,7 +2,8 @@
 
 The ORM refuses, on every backend, a flush that would update or delete a certificate, a
 revocation, an audit entry, an inspection, a reading or a loading case, and any bulk UPDATE or
-DELETE aimed at them; a signing key may only be retired, and a retired key stays retired. The
+DELETE aimed at them; a signing key may only be retired, and a retired key stays retired; a
+vehicle's registration is never changed (its inspections and certificates keep it as weighed). The
 migrations add triggers that refuse the same through raw SQL (PostgreSQL and SQLite), and on
 PostgreSQL the app's role has no UPDATE or DELETE on those tables at all (app/grants.py).
 `immutability_lifted` exists for the test fixtures that empty every table or fake a record's age.
@@ -20,11 +21,13 @@ from sqlalchemy.orm import ORMExecuteState, Session, UOWTransaction
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, SigningKey
 from app.errors import Conflict
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.vehicles.models import Vehicle
 
 CERTIFIED: tuple[type[Any], ...] = (Certificate, CertificateRevocation, CertificateAudit)
 MEASURED: tuple[type[Any], ...] = (Inspection, Reading, LoadingCaseRow)
 FROZEN = CERTIFIED + MEASURED
 SIGNING_KEY_MUTABLE = frozenset({"active", "retired_at"})
+PLATE = frozenset({"registration_number", "registration_key"})  # a vehicle's, kept as weighed
 TRIGGER_PREFIX = "immutable_"
 
 
@@ -72,6 +75,13 @@ def _refuse_changes(session: Session, _flush: UOWTransaction, _instances: object
     for instance in session.dirty:
         if isinstance(instance, FROZEN) and changed_columns(instance):
             raise _refuse(type(instance), "changed")
+        if isinstance(instance, Vehicle) and changed_columns(instance) & PLATE:
+            raise ImmutableRecord(
+                "registration_number: a vehicle's registration is kept as its inspections weighed it "
+                "and is never changed in place",
+                field="registration_number",
+                rule="immutable",
+            )
         if isinstance(instance, SigningKey) and changed_columns(instance) - SIGNING_KEY_MUTABLE:
             raise _refuse(SigningKey, "changed (only retired)")
         if isinstance(instance, SigningKey) and _retired_key_revived(instance):

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Literal
 
-from sqlalchemy import select
+from sqlalchemy import and_, or_, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
@@ -104,6 +104,7 @@ def issue_certificate(
                 field="inspection_id",
                 rule="newer_certified",
             )
+    _refuse_if_weighed_again(session, inspection, field="inspection_id")
     expires_at = add_months(now, settings.certificate_validity_months)
     certificate = _create(
         session,
@@ -147,6 +148,7 @@ def reissue_certificate(
         )
     inspection = session.get(Inspection, old.inspection_id)
     assert inspection is not None
+    _refuse_if_weighed_again(session, inspection, field="number")
     return _create(
         session,
         number=str(allocated),
@@ -195,6 +197,38 @@ def revoke_certificate(
         ) from error
     session.refresh(certificate)
     return certificate
+
+
+def _refuse_if_weighed_again(session: Session, inspection: Inspection, *, field: str) -> None:
+    """409 when the vehicle was weighed after this inspection and found otherwise (another verdict or
+    occupancy): a certificate never says more than the newest weighing found (the database refuses
+    the row too)."""
+    later = session.scalar(
+        select(Inspection.id)
+        .where(Inspection.vehicle_id == inspection.vehicle_id)
+        .where(
+            or_(
+                Inspection.compliant != inspection.compliant,
+                Inspection.max_compliant_occupants != inspection.max_compliant_occupants,
+            )
+        )
+        .where(
+            or_(
+                Inspection.created_at > inspection.created_at,
+                and_(Inspection.created_at == inspection.created_at, Inspection.id > inspection.id),
+            )
+        )
+        .order_by(Inspection.created_at.desc(), Inspection.id.desc())
+        .limit(1)
+    )
+    if later is not None:
+        session.rollback()
+        raise Conflict(
+            f"{field}: {inspection.registration_number} was weighed again after inspection {inspection.id} "
+            f"and found otherwise (inspection {later}); certify the newest weighing",
+            field=field,
+            rule="newer_inspection",
+        )
 
 
 def _reason(reason: str) -> str:

@@ -36,6 +36,9 @@ class Inspection(Base):
 
     id: Mapped[int] = mapped_column(primary_key=True)
     vehicle_id: Mapped[int] = mapped_column(ForeignKey("vehicle.id"))
+    # The plate as it was when weighed: what a certificate of this weighing certifies (the database
+    # refuses one that differs from the vehicle's, and a vehicle's plate is never rewritten).
+    registration_number: Mapped[str] = mapped_column(String(32))
     station_id: Mapped[int | None] = mapped_column(ForeignKey("station.id"))
     user_id: Mapped[int | None] = mapped_column(ForeignKey("user_account.id"))
     created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)

@@ -96,6 +96,7 @@ class InspectionRecord:
 # The inspection table's columns the record carries, in the order the store writes them.
 INSPECTION_COLUMNS = (
     "vehicle_id",
+    "registration_number",
     "station_id",
     "user_id",
     "created_at",
@@ -214,7 +215,6 @@ def record_of(inspection: Inspection) -> InspectionRecord:
     """The record of an inspection read back from the database."""
     return InspectionRecord(
         id=inspection.id,
-        registration_number=inspection.vehicle.registration_number,
         station_name=inspection.station.name if inspection.station else None,
         **{name: getattr(inspection, name) for name in INSPECTION_COLUMNS},
         readings=tuple(
