@@ -22,6 +22,7 @@ from app.stations.rate_limit import RateLimit, seconds_left, window_start
 # Beyond this many addresses in one window, new ones are not counted: memory stays bounded, and a
 # client holding that many addresses is not one a per-address limit could stop anyway.
 MAX_ADDRESSES = 100_000
+clock = time.time  # the windows' clock (tests hold it still, so no window turns mid-test)
 
 
 def client_address(scope: Scope) -> str:
@@ -52,7 +53,7 @@ class AddressWindows:
         """Count one request of `address`: None while within the limit, else the seconds to wait."""
         if self.limit.limit <= 0:
             return None
-        now = time.time() if now is None else now
+        now = clock() if now is None else now
         started = window_start(self.limit, now)
         with self._lock:
             if started > self._started:  # a new window: every address starts again from nothing

@@ -13,11 +13,18 @@ from fastapi import FastAPI
 from fastapi.testclient import TestClient
 
 from app import config
+from app.api import address_limits
 from app.certificates.numbers import CertificateNumber, parse_number
 from app.main import create_app
 
 JSON = {"Accept": "application/json"}
 HTML = {"Accept": "text/html,application/xhtml+xml,*/*;q=0.8"}
+
+
+@pytest.fixture(autouse=True)
+def still_clock(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The windows' clock held still: no window turns in the middle of a test."""
+    monkeypatch.setattr(address_limits, "clock", lambda: 1_800_000_010.0)
 
 
 def limit_of(monkeypatch: pytest.MonkeyPatch, requests: int) -> None:

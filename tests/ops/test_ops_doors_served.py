@@ -21,6 +21,7 @@ BIN = Path(sys.executable).parent
 HEADER_TIMEOUT = 2
 BODY_TIMEOUT = 3
 PUBLIC_LIMIT = 5
+PUBLIC_WINDOW = 3600  # long, and a test never starts near its turn (the_window_holds_still)
 
 
 def free_port() -> int:
@@ -55,6 +56,7 @@ def served(request: pytest.FixtureRequest, database_url: str) -> Iterator[int]:
         TRIKECERT_HEADER_TIMEOUT_SECONDS=str(HEADER_TIMEOUT),
         TRIKECERT_BODY_TIMEOUT_SECONDS=str(BODY_TIMEOUT),
         TRIKECERT_PUBLIC_RATE_LIMIT=str(PUBLIC_LIMIT),
+        TRIKECERT_PUBLIC_RATE_WINDOW_SECONDS=str(PUBLIC_WINDOW),
         TRIKECERT_FORWARDED_ALLOW_IPS="127.0.0.1",  # the test plays the proxy
     )
     port = free_port()
@@ -236,7 +238,15 @@ def get(
         return refused.code, {k.lower(): v for k, v in refused.headers.items()}, refused.read().decode()
 
 
+def the_window_holds_still() -> None:
+    """Wait out the turn of the public limit's fixed window if it comes within the next 10 s."""
+    left = PUBLIC_WINDOW - time.time() % PUBLIC_WINDOW
+    if left < 10:
+        time.sleep(left + 0.5)
+
+
 def test_the_public_verification_is_limited_per_forwarded_address(served: int) -> None:
+    the_window_holds_still()
     numbers = [f"/api/v1/verify/TRK-2026-{n:06d}-A" for n in range(1, PUBLIC_LIMIT + 3)]
     statuses = [get(served, path, "203.0.113.9")[0] for path in numbers]
     assert 429 not in statuses[:PUBLIC_LIMIT]
@@ -244,7 +254,7 @@ def test_the_public_verification_is_limited_per_forwarded_address(served: int) -
 
     status, headers, body = get(served, numbers[0], "203.0.113.9")
     assert status == 429
-    assert 1 <= int(headers["retry-after"]) <= 60
+    assert 1 <= int(headers["retry-after"]) <= PUBLIC_WINDOW
     assert json.loads(body)["errors"][0]["rule"] == "rate_limit"
     status, headers, page = get(served, "/verify/TRK-2026-000001-A", "203.0.113.9", accept="text/html")
     assert status == 429

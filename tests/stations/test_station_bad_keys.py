@@ -13,6 +13,7 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS
 
 from app import config
+from app.api import address_limits
 from app.api.address_limits import AddressWindows
 from app.main import create_app
 from app.stations.rate_limit import RateLimit
@@ -20,6 +21,12 @@ from app.stations.service import create_station
 
 INSPECTIONS = "/api/v1/inspections"
 BAD = {"Authorization": "Bearer tks_not-a-key-of-any-station"}
+
+
+@pytest.fixture(autouse=True)
+def still_clock(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The windows' clock held still: no window turns in the middle of a test."""
+    monkeypatch.setattr(address_limits, "clock", lambda: 1_800_000_010.0)
 
 
 @pytest.fixture
