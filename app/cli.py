@@ -50,9 +50,13 @@ def cmd_serve(args: argparse.Namespace) -> int:
     with get_sessionmaker()() as session:
         record_start(session, get_settings())
     proxies = trusted_proxies(get_settings().forwarded_allow_ips)
+    from app.ops.slow_clients import guarded_protocol
+
     uvicorn.run(
         "app.main:create_served_app",
         factory=True,
+        # uvicorn's own parser, with deadlines for a request's headers and body (slow clients).
+        http=guarded_protocol(),
         host=args.host,
         port=args.port,
         workers=args.workers,

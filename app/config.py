@@ -81,6 +81,16 @@ class Settings(BaseSettings):
     require_calibration: bool = False  # refuse stations with no calibration on record
     station_rate_limit: int = Field(default=120, ge=0)  # requests per station key per window; 0: off
     station_rate_window_seconds: int = Field(default=60, ge=1, le=3600)
+    # Keys no station holds, per client address and window: beyond the limit 429 (valid keys still pass).
+    bad_key_limit: int = Field(default=20, ge=0)  # 0: off
+    bad_key_window_seconds: int = Field(default=300, ge=1, le=3600)
+    # The public verification (/verify, /V/, /api/v1/verify, the published keys): requests per client
+    # address and window, far above a police post's use, far below an enumeration of the register.
+    public_rate_limit: int = Field(default=300, ge=0)  # 0: off
+    public_rate_window_seconds: int = Field(default=60, ge=1, le=3600)
+    # Slow clients: a request's headers, then its body, must each arrive whole within these seconds.
+    header_timeout_seconds: float = Field(default=10, gt=0, le=300)
+    body_timeout_seconds: float = Field(default=30, gt=0, le=600)
     idempotency_key_hours: int = Field(default=24, ge=24, le=24 * 90)
     # Requests one app process handles at once (the threads that run the routes), and the database
     # connections it keeps open: one per request in flight, so a pool as large as the threads is never

@@ -21,6 +21,7 @@ from app.ops.docs import install_docs
 from app.ops.health import router as health_router
 from app.ops.liveness import install_liveness_first
 from app.ops.metrics import router as metrics_router
+from app.ops.public_limit import PublicRateLimit
 from app.ops.requests import RequestContext, configure_logging
 from app.web.headers import install_security_headers
 from app.web.setup import install_web
@@ -61,6 +62,7 @@ def create_app() -> FastAPI:
     )
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.add_middleware(PublicRateLimit)  # inside the request log and the pages' headers
     app.include_router(hot_router)  # first: a submission is matched before any other route
     app.include_router(health_router)
     app.include_router(api_router)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from decimal import Decimal
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Body, Query, status
+from fastapi import APIRouter, Body, Query, Request, status
 from fastapi.responses import Response
 from pydantic import PlainValidator, WithJsonSchema
 
@@ -72,6 +72,7 @@ def inspection_summary(listed: ListedInspection) -> InspectionSummary:
     openapi_extra={"security": [{BEARER_SCHEME: []}], **REQUIRED_BODY},
 )
 def create_inspection(
+    request: Request,
     document: SubmissionBody = None,
     authorization: AuthorizationHeader = None,
     idempotency_key: IdempotencyKeyHeader = None,
@@ -82,7 +83,12 @@ def create_inspection(
     the station scale's calibration has lapsed; 422 for a reading above the scale's capacity or
     repeated readings that spread more than allowed (the scale had not settled).
     """
-    return submit_inspection(document, station_key=bearer_key(authorization), idempotency_key=idempotency_key)
+    return submit_inspection(
+        document,
+        station_key=bearer_key(authorization),
+        idempotency_key=idempotency_key,
+        scope=request.scope,
+    )
 
 
 @router.get(

@@ -2,7 +2,8 @@
 
 The steps of the rule, in order, on one pooled connection:
 
-1. look up, in one round trip: the station holding the key (401 if none), its request counted
+1. look up, in one round trip: the station holding the key (401 if none, 429 once the client's
+   address sent too many keys no station holds: app.stations.deps.refused_key), its request counted
    against the rate limit (429 beyond it), the vehicle with its seats and figures, and the answer
    stored under the Idempotency-Key; only then is the body validated (422 naming the field), so
    every signed request counts;
@@ -27,6 +28,7 @@ from typing import Any
 from fastapi import status
 from fastapi.responses import Response
 from sqlalchemy.exc import IntegrityError
+from starlette.types import Scope
 
 from app.api.validation import validated_body
 from app.config import get_settings
@@ -41,7 +43,7 @@ from app.inspections.requests import inspection_request
 from app.inspections.schemas import InspectionIn
 from app.inspections.service import decide
 from app.inspections.store import KeptAnswer, draw_inspection_id, store_record
-from app.stations.deps import unknown_key
+from app.stations.deps import refused_key
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import RateLimit, check_count, window_start
 from app.stations.scale import configured_scale_rules
@@ -52,7 +54,9 @@ from app.vehicles.service import lookup_key, not_registered
 OPERATION = "POST /api/v1/inspections"
 
 
-def submit_inspection(document: Any, *, station_key: str, idempotency_key: str | None) -> Response:
+def submit_inspection(
+    document: Any, *, station_key: str, idempotency_key: str | None, scope: Scope
+) -> Response:
     """Assess and store one weighing (the body as parsed JSON); the answer is Table 4 and the verdict
     (201), or a refusal."""
     settings = get_settings()
@@ -67,7 +71,7 @@ def submit_inspection(document: Any, *, station_key: str, idempotency_key: str |
             window_start=window_start(limit, now) if limit.limit > 0 else None,
             idempotency_key=key_of(idempotency_key) if idempotency_key else None,
         )
-        station = _authenticated(on_file)
+        station = _authenticated(on_file, scope)
         if on_file.counted is not None:
             check_count(limit, on_file.counted.count, on_file.counted.window_start, now)
         body = validated_body(document, InspectionIn)
@@ -125,9 +129,9 @@ def _registration_key(document: Any) -> str | None:
     return lookup_key(registration) if isinstance(registration, str) else None
 
 
-def _authenticated(on_file: OnFile) -> StationOnFile:
+def _authenticated(on_file: OnFile, scope: Scope) -> StationOnFile:
     if on_file.station is None:
-        raise unknown_key()
+        raise refused_key(scope)
     return on_file.station
 
 

@@ -4,16 +4,19 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import Depends, Header, HTTPException, status
+from fastapi import Depends, Header, HTTPException, Request, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 from fastapi.security.utils import get_authorization_scheme_param
 from sqlalchemy.orm import Session
+from starlette.types import Scope
 
+from app.api.address_limits import client_address, windows
 from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.db import get_session
+from app.errors import ServiceError
 from app.stations.models import Station
-from app.stations.rate_limit import RateLimit, authenticate_and_count
+from app.stations.rate_limit import RATE_LIMIT_RULE, RateLimit, authenticate_and_count
 
 BEARER_SCHEME = "HTTPBearer"  # the security scheme's name in OpenAPI
 bearer = HTTPBearer(
@@ -57,8 +60,38 @@ def unknown_key() -> HTTPException:
     )
 
 
-def current_station(session: SessionDep, key: StationKey) -> Station:
-    """The station whose key signs this request; 401 when the key is missing, unknown or disabled.
+class BadKeysLimited(ServiceError):
+    """Too many keys no station holds, from one address in this window (429, with Retry-After)."""
+
+    status = 429
+
+    def __init__(self, limit: RateLimit, retry_after: int) -> None:
+        super().__init__(
+            f"Authorization: more than {limit.limit} requests with a key no station holds came from "
+            f"this address in {limit.window_seconds} s; retry after {retry_after} s",
+            field="Authorization",
+            rule=RATE_LIMIT_RULE,
+        )
+        self.retry_after = retry_after
+        self.headers = {"Retry-After": str(retry_after)}
+
+
+def refused_key(scope: Scope) -> Exception:
+    """401 for a key no active station holds, counted against its address; beyond the address's
+    limit of such keys, 429 with Retry-After instead.
+
+    Only refused keys are counted, and a valid key is never refused for its address: a station
+    behind the same carrier-grade NAT as whoever sends bad keys keeps working (docs/deployment.md).
+    """
+    settings = get_settings()
+    limit = RateLimit(settings.bad_key_limit, settings.bad_key_window_seconds)
+    retry_after = windows(scope, "bad_key", limit).count(client_address(scope))
+    return unknown_key() if retry_after is None else BadKeysLimited(limit, retry_after)
+
+
+def current_station(request: Request, session: SessionDep, key: StationKey) -> Station:
+    """The station whose key signs this request; 401 when the key is missing, unknown or disabled
+    (429 once its address sent too many unknown keys).
 
     Every authenticated request counts against the station key's rate limit (429 beyond it).
     """
@@ -66,7 +99,7 @@ def current_station(session: SessionDep, key: StationKey) -> Station:
     limit = RateLimit(settings.station_rate_limit, settings.station_rate_window_seconds)
     station = authenticate_and_count(session, key, limit=limit)
     if station is None:
-        raise unknown_key()
+        raise refused_key(request.scope)
     act_as(session, Actor("station", station.id, station.name))
     return station
 

@@ -84,8 +84,12 @@ def check_count(limit: RateLimit, count: int, started: int, now: float) -> None:
     """RateLimited (429, with Retry-After) when `count` requests in the window opened at `started`
     are over the limit."""
     if count > limit.limit:
-        retry_after = max(1, math.ceil(started + limit.window_seconds - now))
-        raise RateLimited(limit, retry_after)
+        raise RateLimited(limit, seconds_left(limit, started, now))
+
+
+def seconds_left(limit: RateLimit, started: int, now: float) -> int:
+    """Whole seconds (at least 1) until the window opened at `started` closes: the Retry-After."""
+    return max(1, math.ceil(started + limit.window_seconds - now))
 
 
 def _count_in_session(session: Session, *, station_id: int, limit: RateLimit, now: float) -> None:

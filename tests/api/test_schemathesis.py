@@ -17,8 +17,10 @@ Idempotency-Key that this run sent before with another request; in the stateful 
 narrowed the same way for one schemathesis artefact (a linked path value judged while still
 percent-encoded, see `negative_data_rejection_with_linked_values_decoded`). Checks are added: the
 narrowed ones, and one that the station key is honoured, without which a key that never reached
-the app would pass everything (401 is an accepted answer to any request). The station's rate limit
-is lifted for the run (it floods one key on purpose; tests/stations tests the limit).
+the app would pass everything (401 is an accepted answer to any request). The station's rate limit,
+the throttle of invalid keys per address and the public verification's limit are lifted for the run
+(it floods one key, and sends invalid ones, on purpose; tests/stations and tests/certificates test
+the limits).
 
 The run is deterministic (fixed seed, derandomized Hypothesis) and bounded (40 examples per
 operation and phase; 30 stateful runs of up to 8 steps), so it is the same test on every CI run.
@@ -364,8 +366,11 @@ def the_station_key_is_honoured(
 
 @pytest.fixture
 def no_rate_limit(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """The station rate limit lifted while the fuzzer floods one key."""
+    """The rate limits lifted while the fuzzer floods one key, sends invalid ones from one address and
+    verifies many numbers (tests/stations and tests/certificates test the limits)."""
     monkeypatch.setenv("TRIKECERT_STATION_RATE_LIMIT", "0")
+    monkeypatch.setenv("TRIKECERT_BAD_KEY_LIMIT", "0")
+    monkeypatch.setenv("TRIKECERT_PUBLIC_RATE_LIMIT", "0")
     config.get_settings.cache_clear()
     yield
     monkeypatch.undo()
