@@ -239,6 +239,7 @@ def _create(
         max_occupants=facts.max_compliant_occupants,
         issued_at=issued_at,
         expires_at=expires_at,
+        issuer=settings.base_url.rstrip("/"),
     )
     token = sign_payload(claims, kid=signer.kid, key=signer.ed25519)
     base = verify_base(settings)
