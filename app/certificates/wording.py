@@ -55,7 +55,7 @@ def qr_title(kind: str, status: PublicStatus, genuine: bool) -> str:
     if status == "certified":
         return QR_GENUINE
     if status == "refused":
-        return f"{QR_GENUINE}, but this paper is a REFUSAL: the vehicle is NOT CERTIFIED"
+        return f"{QR_GENUINE}, but this paper is a REFUSAL"
     word = document_kind(kind)
     if status == "expired":
         return f"{QR_GENUINE}, but this {word} has EXPIRED"
@@ -64,20 +64,12 @@ def qr_title(kind: str, status: PublicStatus, genuine: bool) -> str:
 
 def qr_explanation(status: PublicStatus) -> str:
     """What a genuine QR code vouches for, said so that it cannot be read as more than it is."""
+    signed = "It was signed by the issuing authority and matches this record"
     if status == "certified":
-        return (
-            "It was signed by the issuing authority and matches this record. "
-            "The banner above says what the paper means."
-        )
+        return f"{signed}. The banner above says what the paper means."
     if status == "refused":
-        return (
-            "It was signed by the issuing authority and matches this record: the paper is a refusal "
-            "and certifies nothing. The banner above says what the vehicle may carry."
-        )
-    return (
-        "It was signed by the issuing authority and matches this record, but the paper no longer "
-        "counts: the banner above says why."
-    )
+        return f"{signed}, but a refusal certifies nothing."
+    return f"{signed}, but the paper no longer counts."
 
 
 def not_on_record(number: str) -> str:

@@ -55,8 +55,7 @@ def test_the_qr_url_shows_whether_its_signature_checks_out(
     # Issue 21: the study's paper is a refusal, so a genuine code on it is red, never green.
     assert '<div class="qr-check qr-check--refused" id="qr-check" data-genuine="true">' in genuine.text
     assert (
-        '<p class="qr-check__title">The QR code is genuine, but this paper is a REFUSAL: '
-        "the vehicle is NOT CERTIFIED</p>" in genuine.text
+        '<p class="qr-check__title">The QR code is genuine, but this paper is a REFUSAL</p>' in genuine.text
     )
     assert "qr-check--genuine" not in genuine.text
     technical = genuine.text.split('<div class="details__text">', 1)[1]
