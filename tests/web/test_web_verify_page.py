@@ -11,8 +11,10 @@ docs/screenshots/verify-<state>-<width>.png.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from datetime import timedelta
 from typing import Any
+from urllib.parse import quote
 
 import pytest
 from fastapi.testclient import TestClient
@@ -60,7 +62,7 @@ def certify(api: TestClient, vehicle: dict[str, Any], readings: dict[str, Any]) 
 
 
 @pytest.fixture
-def documents(api: TestClient, session: Session) -> dict[str, dict[str, Any]]:
+def documents(api: TestClient, session: Session, backdate: Callable[..., None]) -> dict[str, dict[str, Any]]:
     """One document of every kind the banner tells apart, each with the path its QR code opens."""
     vehicles = {
         "certified": {**FRONT_HEAVY, "registration_number": "KTU-417-XA"},
@@ -80,12 +82,14 @@ def documents(api: TestClient, session: Session) -> dict[str, dict[str, Any]]:
         "/api/v1/inspections",
         json={"registration_number": "EKY-311-CD", "readings": FRONT_HEAVY_READINGS},
     )
+    long_ago = utcnow() - timedelta(days=400)
+    backdate(weighed.json()["id"], long_ago - timedelta(hours=1))  # weighed, then issued, 400 days ago
     old = issue_certificate(
         session,
         inspection_id=weighed.json()["id"],
         actor=Actor.of_cli(),
         settings=get_settings(),
-        now=utcnow() - timedelta(days=400),
+        now=long_ago,
     ).certificate
     expired = api.get(f"/api/v1/certificates/{old.number}").json()
     return {
@@ -259,12 +263,13 @@ def test_a_tampered_qr_payload_is_called_not_genuine_first(
     page.set_viewport_size({"width": width, "height": 740 if width == 360 else 900})
     valid, refusal = documents["certified"], documents["refusal"]
     # A genuine signature, but for another document: the paper's QR code was swapped.
-    page.goto(f"/verify/{valid['number']}?p={refusal['qr_payload']}")
+    page.goto(f"/verify/{valid['number']}?p={quote(refusal['qr_payload'], safe='')}")
     check = page.locator("#qr-check")
     expect(check).to_have_class("qr-check qr-check--forged")
     expect(check.locator(".qr-check__title")).to_have_text(
         "The QR code is NOT genuine: do not rely on this paper"
     )
+    expect(check).to_contain_text("it was signed for a different document from the one on record")
     title_colour = check.locator(".qr-check__title").evaluate("e => getComputedStyle(e).color")
     assert title_colour == RED
     check_box, banner_box = check.bounding_box(), page.locator("#status").bounding_box()
