@@ -4,17 +4,19 @@ As the EU Digital COVID Certificate does, so the payload fits a QR code's alphan
 
     COSE_Sign1 = #6.18([ protected: bstr .cbor {1: -8 (EdDSA), 4: kid}, unprotected: {},
                          payload: bstr .cbor CWT claims, signature: bstr (64 bytes) ])
-    CWT claims = {1 (iss): base URL, 4 (exp): NumericDate, 6 (iat): NumericDate,
+    CWT claims = {1 (iss): base URL without its scheme, 4 (exp): NumericDate, 6 (iat): NumericDate,
                   -65537 (private use): {1: year * 10**6 + sequence, 2: registration,
                                          3: compliant (bool), 4: max occupants, driver counted,
-                                         5: "certificate" or "refusal"}}
+                                         5: kind (1 certificate, 2 refusal)}}
 
 Payloads signed before the issuer and the kind were added (2026-12) have neither `1 (iss)` nor
 `5`; they keep verifying, and a payload is either wholly of one layout or refused. The kid is the
 published JWK `kid` (16 base64url characters) decoded to its 12 bytes. The certificate number
 travels as its ten digits; the check letter is recomputed. No zlib step (the DCC has one): the
-64-byte signature is most of the 170 bytes, and it does not compress. docs/verification.md is the
-specification a third party verifies from.
+64-byte signature is most of the 160 bytes, and it does not compress. The issuer leaves out the
+scheme and the kind is a number, because every byte widens the QR code: with a base URL of 30
+characters the code stays at version 10. docs/verification.md is the specification a third party
+verifies from.
 
 Built by hand with cbor2 and cryptography rather than with `pycose` or `cwt`: one structure with
 one algorithm is thirty lines, and the verifier must be strict in ways a general library is not
@@ -52,6 +54,7 @@ OURS_KEYS = frozenset({NUMBER, REGISTRATION, COMPLIANT, MAX_OCCUPANTS, KIND})
 EARLIER_CLAIM_KEYS = CLAIM_KEYS - {CLAIM_ISS}
 EARLIER_OURS_KEYS = OURS_KEYS - {KIND}
 MAX_ISSUER = 200
+KIND_CODES: dict[DocumentKind, int] = {"certificate": 1, "refusal": 2}
 KID_BYTES = 12
 BASE45_ALPHABET = frozenset("0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ $%*+-./:")
 
@@ -83,7 +86,7 @@ def sign_cwt(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
     number = parse_number(claims.number)
     protected = cbor2.dumps({HEADER_ALG: EDDSA, HEADER_KID: kid_bytes(kid)})
     if not claims.issuer:
-        raise ValueError("a CWT needs its issuer (the service's base URL)")
+        raise ValueError("a CWT needs its issuer (the service's base URL without its scheme)")
     payload = cbor2.dumps(
         {
             CLAIM_ISS: claims.issuer,
@@ -94,7 +97,7 @@ def sign_cwt(claims: Claims, *, kid: str, key: Ed25519PrivateKey) -> str:
                 REGISTRATION: claims.registration,
                 COMPLIANT: claims.verdict == "C",
                 MAX_OCCUPANTS: claims.max_occupants,
-                KIND: kind_of(claims.verdict == "C"),
+                KIND: KIND_CODES[kind_of(claims.verdict == "C")],
             },
         }
     )
@@ -215,9 +218,9 @@ def _claims_of(payload: bytes) -> Claims:
             raise ValueError("the verdict must be true or false")
         if isinstance(occupants, bool) or not isinstance(occupants, int) or not 0 <= occupants < 100:
             raise ValueError("max occupancy must be a whole number")
-        kind = ours.get(KIND)
-        if current and kind != kind_of(compliant):
-            raise ValueError("the kind must be 'certificate' for a compliant verdict, else 'refusal'")
+        kind = kind_of(compliant) if current else None
+        if current and ours[KIND] != KIND_CODES[kind_of(compliant)]:
+            raise ValueError("the kind must be 1 (certificate) for a compliant verdict, else 2 (refusal)")
     except (ValueError, InvalidNumber, OverflowError, OSError) as error:
         raise tampered(error) from error
     return Claims(
@@ -235,7 +238,7 @@ def _claims_of(payload: bytes) -> Claims:
 
 
 def kind_of(compliant: bool) -> DocumentKind:
-    """The document-kind claim: 'certificate' for a compliant verdict, else 'refusal'."""
+    """The document's kind by its verdict: 'certificate' when compliant, else 'refusal'."""
     return "certificate" if compliant else "refusal"
 
 

@@ -50,7 +50,7 @@ def test_verify_accepts_the_qr_url_against_a_saved_key_file(
     assert f"GENUINE: signed by key {issued['key_id']}" in out
     assert "\nstatus: refused (a refusal: the vehicle is NOT certified)\n" in out
     assert "offline check: a revocation or a replacement shows online only" in out
-    assert "\nissuer: http://127.0.0.1:8000\n" in out
+    assert "\nissuer: 127.0.0.1:8000\n" in out
     assert f"refusal {issued['number']} for BDG 252 QH" in out
     assert "\nThis vehicle must not carry passengers\n" in out
     issued_at, expires_at = (datetime.fromisoformat(issued[k]) for k in ("issued_at", "expires_at"))

@@ -15,7 +15,7 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from app.certificates.cwt import kid_bytes, sign_cwt
 from app.certificates.keys import kid_of, okp_key, public_jwk
 from app.certificates.numbers import CertificateNumber
-from app.certificates.signing import Claims, PayloadRefused, verify_payload
+from app.certificates.signing import Claims, PayloadRefused, issuer_claim, verify_payload
 
 NUMBER = CertificateNumber(2026, 123)
 ISSUED, EXPIRES = datetime(2026, 11, 23, 9, tzinfo=UTC), datetime(2027, 11, 23, 9, tzinfo=UTC)
@@ -28,7 +28,7 @@ CLAIMS = Claims(
     1,
     issued_at=ISSUED,
     expires_at=EXPIRES,
-    issuer="https://trikecert.example.ng",
+    issuer="trikecert.example.ng",
 )
 
 
@@ -49,10 +49,16 @@ def signed(claims: dict[Any, Any], kid: str, private: Ed25519PrivateKey) -> str:
     return text.decode()
 
 
-def ours(compliant: bool = False, kind: str | None = None) -> dict[int, Any]:
+def ours(compliant: bool = False, kind: int | None = None) -> dict[int, Any]:
     """The trikecert claim; with a kind, as new payloads have it (key 5)."""
     claim: dict[int, Any] = {1: int(NUMBER.digits), 2: "BDG 252 QH", 3: compliant, 4: 1}
     return claim if kind is None else {**claim, 5: kind}
+
+
+def test_the_issuer_is_the_base_url_without_its_scheme() -> None:
+    assert issuer_claim("https://TriKeCert.Example.NG/") == "trikecert.example.ng"
+    assert issuer_claim("https://gov.example.ng/TRIKECERT") == "gov.example.ng/TRIKECERT"
+    assert issuer_claim("http://127.0.0.1:8000") == "127.0.0.1:8000"
 
 
 def test_a_new_payload_signs_the_issuer_and_the_kind(
@@ -61,11 +67,11 @@ def test_a_new_payload_signs_the_issuer_and_the_kind(
     kid, private, keys = signer
     token = sign_cwt(CLAIMS, kid=kid, key=private)
     body = cbor2.loads(cbor2.loads(base45.b45decode(token)).value[2])
-    assert body[1] == "https://trikecert.example.ng"
-    assert body[-65537][5] == "refusal"
+    assert body[1] == "trikecert.example.ng"
+    assert body[-65537][5] == 2  # a refusal; 1 is a certificate
     verified = verify_payload(token, keys)
     assert verified.claims == CLAIMS
-    assert (verified.claims.issuer, verified.claims.kind) == ("https://trikecert.example.ng", "refusal")
+    assert (verified.claims.issuer, verified.claims.kind) == ("trikecert.example.ng", "refusal")
     with pytest.raises(ValueError, match="issuer"):
         sign_cwt(Claims(**{**CLAIMS.__dict__, "issuer": None}), kid=kid, key=private)
 
@@ -84,13 +90,14 @@ def test_a_payload_signed_before_the_issuer_and_kind_claims_still_verifies(
     "claims",
     [
         # the issuer without the kind, and the kind without the issuer: neither layout
-        {1: "https://x.example", 4: 1827478800, 6: 1795942800, -65537: ours()},
-        {4: 1827478800, 6: 1795942800, -65537: ours(kind="refusal")},
+        {1: "x.example", 4: 1827478800, 6: 1795942800, -65537: ours()},
+        {4: 1827478800, 6: 1795942800, -65537: ours(kind=2)},
         # a kind that contradicts the verdict
-        {1: "https://x.example", 4: 1827478800, 6: 1795942800, -65537: ours(kind="certificate")},
-        {1: "https://x.example", 4: 1827478800, 6: 1795942800, -65537: ours(True, kind="refusal")},
-        # an issuer that is not text
-        {1: 7, 4: 1827478800, 6: 1795942800, -65537: ours(kind="refusal")},
+        {1: "x.example", 4: 1827478800, 6: 1795942800, -65537: ours(kind=1)},
+        {1: "x.example", 4: 1827478800, 6: 1795942800, -65537: ours(True, kind=2)},
+        # an issuer that is not text, a kind that is not a number
+        {1: 7, 4: 1827478800, 6: 1795942800, -65537: ours(kind=2)},
+        {1: "x.example", 4: 1827478800, 6: 1795942800, -65537: {**ours(), 5: "refusal"}},
     ],
     ids=[
         "issuer only",
@@ -98,6 +105,7 @@ def test_a_payload_signed_before_the_issuer_and_kind_claims_still_verifies(
         "refusal called certificate",
         "certificate called refusal",
         "issuer number",
+        "kind text",
     ],
 )
 def test_a_payload_of_neither_layout_or_with_a_contradicting_kind_is_tampered(
