@@ -22,7 +22,9 @@ from app.certificates.records import certificate_facts, certificate_status, get_
 from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
 from app.certificates.signing import qr_url_of
+from app.certificates.verification_examples import VERIFICATION_EXAMPLES
 from app.certificates.verify_json import payload_param, verification
+from app.certificates.wording import not_on_record
 from app.config import get_settings
 from app.errors import NotFound
 from app.ids import InspectionId
@@ -35,7 +37,7 @@ NumberPath = Annotated[
     str,
     Path(
         max_length=40,
-        description="The certificate number, e.g. TRK-2026-000001-A (case and hyphens forgiven).",
+        description="The certificate number, e.g. TRK-2026-000001-E (case and hyphens forgiven).",
     ),
 ]
 
@@ -45,7 +47,7 @@ def station_certificate(session: Session, number: str, station: Station) -> Cert
     certificate = get_certificate(session, number)
     inspection = session.get(Inspection, certificate.inspection_id)
     if inspection is None or inspection.station_id != station.id:
-        raise NotFound(f"number: no certificate {parse_number(number)} exists", field="number", rule="exists")
+        raise NotFound(f"number: {not_on_record(str(parse_number(number)))}", field="number", rule="exists")
     return certificate
 
 
@@ -149,7 +151,13 @@ def read_certificate_pdf(
     "/verify/{number}",
     response_model=VerificationOut,
     response_model_exclude_none=True,
-    responses=error_responses(404, 422),
+    responses={
+        200: {
+            "description": "The document and what it means now; only `certified` certifies the vehicle.",
+            "content": {"application/json": {"examples": VERIFICATION_EXAMPLES}},
+        },
+        **error_responses(404, 422),
+    },
     summary="Verify a certificate or refusal: public, no key needed",
 )
 def verify_certificate(
@@ -165,9 +173,13 @@ def verify_certificate(
         ),
     ] = None,
 ) -> VerificationOut:
-    """Only what the paper prints, and the status now: valid, revoked, expired or superseded.
+    """Only what the paper prints, and the status now: certified, refused, revoked, superseded or expired.
 
-    The same answer comes from `GET /verify/{number}` with `Accept: application/json`.
-    `superseded_by` is there only when superseded; `qr`, `reason` and `reason_text` only with `p`.
+    Only `status: certified` (`in_force: true`) certifies the vehicle; a refusal never does. The same
+    answer comes from `GET /verify/{number}` with `Accept: application/json`. `revoked_on` and
+    `reason` are there only when revoked, `superseded_by` and `superseded_on` only when superseded,
+    `qr`, `qr_reason` and `qr_reason_text` only with `p`. 404 (rule `format`, `check_letter` or
+    `exists`) for a number that finds no document: such a paper is not valid. docs/verification.md
+    says how to check a QR code offline.
     """
     return verification(session, get_certificate(session, number), payload_param(request) if p else None)

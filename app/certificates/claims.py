@@ -11,6 +11,7 @@ from datetime import date, datetime
 from typing import Any, Literal
 
 Verdict = Literal["C", "NC"]
+DocumentKind = Literal["certificate", "refusal"]
 Reason = Literal["malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"]
 
 
@@ -27,8 +28,10 @@ class PayloadRefused(Exception):
 class Claims:
     """Number, registration, issue and expiry dates (as printed), verdict and maximum occupancy.
 
-    A CWT also signs the exact moments (`issued_at`, `expires_at`); they are not compared, because
-    a payload issued before carries only the dates, and the dates are what the paper prints.
+    A CWT also signs the exact moments (`issued_at`, `expires_at`), and since 2026-12 the issuer (its
+    base URL) and the document's kind; they are not compared, because a payload issued before
+    carries only the dates, and the dates are what the paper prints. The kind, when signed, always
+    agrees with the verdict (the verifier refuses a payload where it does not).
     """
 
     number: str
@@ -39,6 +42,8 @@ class Claims:
     max_occupants: int
     issued_at: datetime | None = field(default=None, compare=False)
     expires_at: datetime | None = field(default=None, compare=False)
+    issuer: str | None = field(default=None, compare=False)
+    kind: DocumentKind | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

@@ -6,14 +6,17 @@ import argparse
 import json
 import sys
 import urllib.request
-from datetime import date
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from app.config import get_settings
 from app.db import get_sessionmaker
 from app.errors import InvalidInput
 from app.ids import cli_id
+
+if TYPE_CHECKING:
+    from app.certificates.claims import Claims
+    from app.certificates.wording import PublicStatus
 
 
 def load_keys(source: str | None) -> dict[str, Any]:
@@ -36,29 +39,91 @@ def load_keys(source: str | None) -> dict[str, Any]:
     return data
 
 
+NOT_IN_FORCE = 3  # exit status: the code is genuine, but the paper does not certify the vehicle now
+
+
 def cmd_verify(args: argparse.Namespace) -> int:
-    """Check a QR payload or verify URL offline; exit 1 with the reason when it is not genuine."""
+    """Check a QR payload or verify URL; print its status as the JSON verification names it.
+
+    Exit 0 only for a genuine certificate in force, 1 when the code is not genuine, 3 when it is
+    genuine but the paper certifies nothing now (refused, revoked, superseded or expired). With
+    --keys the check is offline and cannot see a revocation or a replacement; without, this
+    service's record is read too.
+    """
     from app.certificates.records import verify_base
     from app.certificates.signing import PayloadRefused, verify_input
+    from app.certificates.wording import in_force, status_meaning
     from app.inspections.wording import document_kind, occupancy_sentence
     from app.web.formatting import long_date
 
+    keys = load_keys(args.keys)
     try:
-        verified = verify_input(args.payload, load_keys(args.keys))
+        verified = verify_input(args.payload, keys)
+        online = None if args.keys is not None else record_status(args.payload, keys, verified.claims)
     except PayloadRefused as refused:
         print(f"trikecert: NOT GENUINE ({refused.reason}): {refused.message}", file=sys.stderr)
         return 1
     claims = verified.claims
+    status, details = online if online is not None else (offline_status(claims), [])
     print(f"GENUINE: signed by key {verified.kid}")
-    compliant = claims.verdict == "C"
-    kind = document_kind("compliant" if compliant else "refusal")
+    print(f"status: {status} ({status_meaning(status)})")
+    kind = document_kind("compliant" if claims.verdict == "C" else "refusal")
     print(f"{kind} {claims.number} for {claims.registration}")
-    print(occupancy_sentence(compliant, claims.max_occupants))
+    print(occupancy_sentence(claims.verdict == "C", claims.max_occupants))
     print(f"issued {long_date(claims.issued)}, valid until {long_date(claims.expires)}")
-    if claims.expires < date.today():
-        print(f"note: this {kind} has EXPIRED")
-    print(f"revocation and replacement show online only: {verify_base(get_settings())}/{claims.number}")
-    return 0
+    if claims.issuer is not None:
+        print(f"issuer: {claims.issuer}")
+    for line in details:
+        print(line)
+    if online is None:
+        print(
+            "offline check: a revocation or a replacement shows online only: "
+            f"{verify_base(get_settings())}/{claims.number}"
+        )
+    return 0 if in_force(status) else NOT_IN_FORCE
+
+
+def offline_status(claims: Claims) -> PublicStatus:
+    """The status the signed claims alone give: certified or refused until the expiry, then expired."""
+    from app.certificates.validity import local_date
+    from app.certificates.wording import public_status
+    from app.db import utcnow
+
+    now = utcnow()
+    lapsed = now >= claims.expires_at if claims.expires_at is not None else claims.expires < local_date(now)
+    return public_status(
+        "compliant" if claims.verdict == "C" else "refusal", "expired" if lapsed else "issued"
+    )
+
+
+def record_status(
+    payload: str, keys: dict[str, Any], claims: Claims
+) -> tuple[PublicStatus, list[str]] | None:
+    """The status of the payload's document in this service's database, with the revocation or the
+    replacement in words; None when the number is not on record here. PayloadRefused (tampered)
+    when the signed claims are not the record's."""
+    from app.certificates.claims import PayloadRefused
+    from app.certificates.records import certificate_status, find_certificate
+    from app.certificates.verification import check_payload
+    from app.certificates.wording import public_status
+    from app.web.formatting import long_date
+
+    with get_sessionmaker()() as session:
+        certificate = find_certificate(session, claims.number)
+        if certificate is None:
+            return None
+        checked = check_payload(payload, keys, certificate)
+        if not checked.genuine:
+            raise PayloadRefused("tampered", checked.message)
+        status = public_status(certificate.kind, certificate_status(certificate))
+        details = []
+        if status == "revoked" and certificate.revocation is not None:
+            revocation = certificate.revocation
+            details.append(f"revoked on {long_date(revocation.revoked_at)}: {revocation.reason}")
+        if status == "superseded" and certificate.superseded_by is not None:
+            newer = certificate.superseded_by
+            details.append(f"superseded on {long_date(newer.issued_at)} by {newer.number}")
+        return status, details
 
 
 def cmd_issue(args: argparse.Namespace) -> int:
@@ -126,7 +191,11 @@ def cmd_keys(args: argparse.Namespace) -> int:
 
 def add_certificate_commands(commands: Any) -> None:
     """Add the certificate sub-commands to the `trikecert` parser's sub-parsers."""
-    verify = commands.add_parser("verify", help="check a certificate's QR payload (or verify URL) offline")
+    verify = commands.add_parser(
+        "verify",
+        help="check a certificate's QR payload (or verify URL); exit 0 only for a certificate in force, "
+        "1 not genuine, 3 genuine but refused, revoked, superseded or expired",
+    )
     verify.add_argument("payload", metavar="PAYLOAD_OR_URL")
     verify.add_argument(
         "--keys", metavar="FILE_OR_URL", help="published keys (default: this database's keys)"

@@ -4,13 +4,19 @@ As the EU Digital COVID Certificate does, so the payload fits a QR code's alphan
 
     COSE_Sign1 = #6.18([ protected: bstr .cbor {1: -8 (EdDSA), 4: kid}, unprotected: {},
                          payload: bstr .cbor CWT claims, signature: bstr (64 bytes) ])
-    CWT claims = {4 (exp): NumericDate, 6 (iat): NumericDate,
+    CWT claims = {1 (iss): base URL without its scheme, 4 (exp): NumericDate, 6 (iat): NumericDate,
                   -65537 (private use): {1: year * 10**6 + sequence, 2: registration,
-                                         3: compliant (bool), 4: max occupants}}
+                                         3: compliant (bool), 4: max occupants, driver counted,
+                                         5: kind (1 certificate, 2 refusal)}}
 
-The kid is the published JWK `kid` (16 base64url characters) decoded to its 12 bytes. The
-certificate number travels as its ten digits; the check letter is recomputed. No zlib step (the
-DCC has one): the 64-byte signature is most of the 130 bytes, and it does not compress.
+Payloads signed before the issuer and the kind were added (2026-12) have neither `1 (iss)` nor
+`5`; they keep verifying, and a payload is either wholly of one layout or refused. The kid is the
+published JWK `kid` (16 base64url characters) decoded to its 12 bytes. The certificate number
+travels as its ten digits; the check letter is recomputed. No zlib step (the DCC has one): the
+64-byte signature is most of the 160 bytes, and it does not compress. The issuer leaves out the
+scheme and the kind is a number, because every byte widens the QR code: with a base URL of 30
+characters the code stays at version 10. docs/verification.md is the specification a third party
+verifies from.
 
 Built by hand with cbor2 and cryptography rather than with `pycose` or `cwt`: one structure with
 one algorithm is thirty lines, and the verifier must be strict in ways a general library is not
@@ -31,7 +37,7 @@ import cbor2
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
-from app.certificates.claims import Claims, PayloadRefused, Verified, find_key, tampered
+from app.certificates.claims import Claims, DocumentKind, PayloadRefused, Verified, find_key, tampered
 from app.certificates.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
 from app.certificates.signer import SignsBytes
 from app.certificates.validity import local_date
@@ -40,9 +46,16 @@ from app.inspections.wording import verdict_mark
 COSE_SIGN1_TAG = 18
 EDDSA = -8  # COSE algorithm EdDSA; with an OKP Ed25519 key it is Ed25519
 HEADER_ALG, HEADER_KID = 1, 4
-CLAIM_EXP, CLAIM_IAT = 4, 6
+CLAIM_ISS, CLAIM_EXP, CLAIM_IAT = 1, 4, 6
 CLAIM_TRIKECERT = -65537  # the first private-use claim key (RFC 8392, section 9.1)
-NUMBER, REGISTRATION, COMPLIANT, MAX_OCCUPANTS = 1, 2, 3, 4
+NUMBER, REGISTRATION, COMPLIANT, MAX_OCCUPANTS, KIND = 1, 2, 3, 4, 5
+# The two layouts a payload may have: since 2026-12 with the issuer and the kind, and before.
+CLAIM_KEYS = frozenset({CLAIM_ISS, CLAIM_EXP, CLAIM_IAT, CLAIM_TRIKECERT})
+OURS_KEYS = frozenset({NUMBER, REGISTRATION, COMPLIANT, MAX_OCCUPANTS, KIND})
+EARLIER_CLAIM_KEYS = CLAIM_KEYS - {CLAIM_ISS}
+EARLIER_OURS_KEYS = OURS_KEYS - {KIND}
+MAX_ISSUER = 200
+KIND_CODES: dict[DocumentKind, int] = {"certificate": 1, "refusal": 2}
 KID_BYTES = 12
 BASE45_ALPHABET = frozenset("0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ $%*+-./:")
 
@@ -73,8 +86,11 @@ def sign_cwt(claims: Claims, *, kid: str, key: SignsBytes) -> str:
     """The base45 text of the signed COSE_Sign1 CWT of these claims (needs `issued_at`, `expires_at`)."""
     number = parse_number(claims.number)
     protected = cbor2.dumps({HEADER_ALG: EDDSA, HEADER_KID: kid_bytes(kid)})
+    if not claims.issuer:
+        raise ValueError("a CWT needs its issuer (the service's base URL without its scheme)")
     payload = cbor2.dumps(
         {
+            CLAIM_ISS: claims.issuer,
             CLAIM_EXP: _numeric_date(claims.expires_at),
             CLAIM_IAT: _numeric_date(claims.issued_at),
             CLAIM_TRIKECERT: {
@@ -82,6 +98,7 @@ def sign_cwt(claims: Claims, *, kid: str, key: SignsBytes) -> str:
                 REGISTRATION: claims.registration,
                 COMPLIANT: claims.verdict == "C",
                 MAX_OCCUPANTS: claims.max_occupants,
+                KIND: KIND_CODES[kind_of(claims.verdict == "C")],
             },
         }
     )
@@ -179,11 +196,17 @@ def _claims_of(payload: bytes) -> Claims:
     except PayloadRefused as refused:
         raise tampered(ValueError(refused.message)) from refused
     try:
-        if not isinstance(body, dict) or set(body) != {CLAIM_EXP, CLAIM_IAT, CLAIM_TRIKECERT}:
-            raise ValueError("expected exactly the claims exp, iat and the trikecert claim")
+        current = isinstance(body, dict) and set(body) == CLAIM_KEYS
+        if not isinstance(body, dict) or not (current or set(body) == EARLIER_CLAIM_KEYS):
+            raise ValueError("expected exactly the claims iss, exp, iat and the trikecert claim")
         ours = body[CLAIM_TRIKECERT]
-        if not isinstance(ours, dict) or set(ours) != {NUMBER, REGISTRATION, COMPLIANT, MAX_OCCUPANTS}:
-            raise ValueError("the trikecert claim must hold number, registration, verdict and occupancy")
+        if not isinstance(ours, dict) or set(ours) != (OURS_KEYS if current else EARLIER_OURS_KEYS):
+            raise ValueError(
+                "the trikecert claim must hold number, registration, verdict, occupancy and kind"
+            )
+        issuer = body.get(CLAIM_ISS)
+        if current and (not isinstance(issuer, str) or not 0 < len(issuer) <= MAX_ISSUER):
+            raise ValueError("the issuer must be text")
         issued_at, expires_at = _moment(body[CLAIM_IAT]), _moment(body[CLAIM_EXP])
         digits = ours[NUMBER]
         if isinstance(digits, bool) or not isinstance(digits, int) or not 0 <= digits < 10**10:
@@ -196,6 +219,9 @@ def _claims_of(payload: bytes) -> Claims:
             raise ValueError("the verdict must be true or false")
         if isinstance(occupants, bool) or not isinstance(occupants, int) or not 0 <= occupants < 100:
             raise ValueError("max occupancy must be a whole number")
+        kind = kind_of(compliant) if current else None
+        if current and ours[KIND] != KIND_CODES[kind_of(compliant)]:
+            raise ValueError("the kind must be 1 (certificate) for a compliant verdict, else 2 (refusal)")
     except (ValueError, InvalidNumber, OverflowError, OSError) as error:
         raise tampered(error) from error
     return Claims(
@@ -207,7 +233,14 @@ def _claims_of(payload: bytes) -> Claims:
         max_occupants=occupants,
         issued_at=issued_at,
         expires_at=expires_at,
+        issuer=issuer,
+        kind=kind,
     )
+
+
+def kind_of(compliant: bool) -> DocumentKind:
+    """The document's kind by its verdict: 'certificate' when compliant, else 'refusal'."""
+    return "certificate" if compliant else "refusal"
 
 
 def _moment(value: Any) -> datetime:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import Literal
 
 PREFIX = "TRK"
 SEQUENCE_DIGITS = 6
@@ -25,7 +26,11 @@ _COMPACT = re.compile(rf"^{PREFIX}([0-9]{{4}})([0-9]{{{SEQUENCE_DIGITS}}})([A-Z]
 
 
 class InvalidNumber(ValueError):
-    """The text is not a well-formed certificate number with a correct check letter."""
+    """The text is not a well-formed certificate number (`rule` format) or its check letter is wrong."""
+
+    def __init__(self, message: str, rule: Literal["format", "check_letter"] = "format") -> None:
+        super().__init__(message)
+        self.rule = rule
 
 
 def check_letter(digits: str) -> str:
@@ -74,7 +79,8 @@ def parse_number(text: str) -> CertificateNumber:
     year, sequence, letter = match.groups()
     if check_letter(year + sequence) != letter:
         raise InvalidNumber(
-            f"{text.strip()[:40]!r} has a wrong check letter: a character is mistyped or two are swapped"
+            f"{text.strip()[:40]!r} has a wrong check letter: a character is mistyped or two are swapped",
+            rule="check_letter",
         )
     return CertificateNumber(int(year), int(sequence))
 

@@ -11,6 +11,7 @@ from sqlalchemy.orm import Session
 from app.certificates.facts import Facts
 from app.certificates.models import Certificate, CertificateAudit
 from app.certificates.numbers import InvalidNumber, parse_number
+from app.certificates.wording import not_on_record
 from app.config import Settings
 from app.db import utcnow
 from app.errors import NotFound
@@ -49,14 +50,15 @@ def find_certificate(session: Session, number: str) -> Certificate | None:
 
 
 def get_certificate(session: Session, number: str) -> Certificate:
-    """The certificate with this number, or NotFound (saying so when the number is malformed)."""
+    """The certificate with this number, or NotFound: rule `format`, `check_letter` or `exists`, in the
+    words the verify page and its form give too."""
     try:
         canonical = str(parse_number(number))
     except InvalidNumber as error:
-        raise NotFound(f"number: {error}", field="number", rule="check_letter") from error
+        raise NotFound(f"number: {error}", field="number", rule=error.rule) from error
     certificate = session.scalar(select(Certificate).where(Certificate.number == canonical))
     if certificate is None:
-        raise NotFound(f"number: no certificate {canonical} exists", field="number", rule="exists")
+        raise NotFound(f"number: {not_on_record(canonical)}", field="number", rule="exists")
     return certificate
 
 

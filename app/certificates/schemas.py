@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import BaseModel, Field
 
-EXAMPLE_NUMBER = "TRK-2026-000001-A"
+EXAMPLE_NUMBER = "TRK-2026-000001-E"
 
 
 class RevocationOut(BaseModel):
@@ -62,28 +62,60 @@ class CertificateOut(BaseModel):
     pdf_sha256: str
 
 
+QrReason = Literal["ok", "malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"]
+
+
 class VerificationOut(BaseModel):
-    """A public check of a document: only what its paper prints, and whether a scanned QR code is genuine."""
+    """A public check of a document: only what its paper prints, what it means now, and whether a
+    scanned QR code is genuine. Read `status` (or `in_force`): only `certified` certifies the vehicle."""
 
     number: str = Field(examples=[EXAMPLE_NUMBER])
-    kind: Literal["certificate", "refusal"]
-    status: Literal["valid", "revoked", "expired", "superseded"] = Field(
-        description="Now: valid (in force), revoked, expired or superseded (by `superseded_by`). "
-        "A refusal that is valid is in force: the vehicle may carry only `max_compliant_occupants`."
+    kind: Literal["certificate", "refusal"] = Field(
+        description="certificate: the vehicle passed; refusal: it failed, and the paper says what it "
+        "may carry."
+    )
+    status: Literal["certified", "refused", "revoked", "superseded", "expired"] = Field(
+        description="What the document means now. certified: a certificate in force, the vehicle is "
+        "certified for `max_compliant_occupants`. refused: a refusal in force, the vehicle is NOT "
+        "certified. revoked (`revoked_on`, `reason`), superseded (by `superseded_by`) and expired: the "
+        "document no longer counts, whatever its kind. (Until 2026-12 a document in force was `valid`, "
+        "for a refusal too: that value is gone.)"
+    )
+    in_force: bool = Field(
+        description="True only when `status` is certified: this paper certifies the vehicle now. False "
+        "for a refusal (it certifies nothing, even while it stands) and for anything revoked, "
+        "superseded or expired."
     )
     registration_number: str
     max_compliant_occupants: int = Field(
-        description="Occupants the vehicle is certified to carry, the driver counted (0: none)."
+        description="Occupants the vehicle may carry, the DRIVER COUNTED: 1 is the driver alone, 3 the "
+        "driver and 2 passengers, 0 nobody (the vehicle must not be used). For a refusal it is what "
+        "the vehicle may carry at most, not a certification."
     )
     issued_on: date
-    valid_until: date = Field(description="The last day shown on the paper, in the service's time zone.")
+    valid_until: date = Field(
+        description="The last day the paper names (for a refusal: until when it stands), in the "
+        "service's time zone. After it the status is expired."
+    )
+    revoked_on: date | None = Field(
+        default=None, description="Only when revoked: the day it was revoked, in the service's time zone."
+    )
+    reason: str | None = Field(
+        default=None,
+        description="Only when revoked: why, as the authority recorded it (shown to anyone who checks).",
+    )
     superseded_by: str | None = Field(
-        default=None, description="Only when superseded: the number of the newer document."
+        default=None, description="Only when superseded: the number of the newer document; verify it too."
+    )
+    superseded_on: date | None = Field(
+        default=None, description="Only when superseded: the day the newer document was issued."
     )
     qr: Literal["genuine", "not_genuine"] | None = Field(
-        default=None, description="Only with `p`: whether the scanned payload is genuine for this record."
+        default=None,
+        description="Only with `p`: whether the scanned payload is genuine for this record. A genuine code "
+        "on a document that is not in force is still not a certificate: read `status`.",
     )
-    reason: (
-        Literal["ok", "malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"] | None
-    ) = Field(default=None, description="Only with `p`: ok, or why the payload is not genuine.")
-    reason_text: str | None = Field(default=None, description="Only with `p`: the reason in words.")
+    qr_reason: QrReason | None = Field(
+        default=None, description="Only with `p`: ok, or why the payload is not genuine."
+    )
+    qr_reason_text: str | None = Field(default=None, description="Only with `p`: `qr_reason` in words.")

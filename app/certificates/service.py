@@ -24,7 +24,7 @@ from app.certificates.numbers import parse_number
 from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
-from app.certificates.signing import Claims, qr_url_of, sign_payload
+from app.certificates.signing import Claims, issuer_claim, qr_url_of, sign_payload
 from app.certificates.validity import add_months, local_date
 from app.config import Settings
 from app.db import utcnow
@@ -273,6 +273,7 @@ def _create(
         max_occupants=facts.max_compliant_occupants,
         issued_at=issued_at,
         expires_at=expires_at,
+        issuer=issuer_claim(settings.base_url),
     )
     token = sign_payload(claims, kid=signer.kid, key=signer)
     base = verify_base(settings)

@@ -23,6 +23,7 @@ __all__ = [
     "Claims",
     "PayloadRefused",
     "Verified",
+    "issuer_claim",
     "legacy_qr_url",
     "qr_url",
     "qr_url_of",
@@ -48,6 +49,12 @@ def short_base(base_url: str) -> str:
     """The base URL with its scheme and host in capitals (case-insensitive there, alphanumeric in a QR)."""
     url = urlsplit(base_url.rstrip("/"))
     return f"{url.scheme.upper()}://{url.netloc.upper()}{url.path}"
+
+
+def issuer_claim(base_url: str) -> str:
+    """The issuer a CWT signs: the base URL without its scheme, host in lower case ('x.example.ng/path')."""
+    url = urlsplit(base_url.rstrip("/"))
+    return f"{url.netloc.lower()}{url.path}"
 
 
 def qr_url(base_url: str, payload: str) -> str:

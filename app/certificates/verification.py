@@ -13,6 +13,7 @@ from app.certificates.records import certificate_status
 from app.certificates.schemas import VerificationOut
 from app.certificates.signing import verify_input
 from app.certificates.validity import local_date
+from app.certificates.wording import in_force, public_kind, public_status
 from app.inspections.wording import verdict_mark
 
 
@@ -78,25 +79,27 @@ def check_payload(text: str, jwks: dict[str, Any], certificate: Certificate | No
     )
 
 
-PUBLIC_STATUS = {"issued": "valid", "revoked": "revoked", "expired": "expired", "superseded": "superseded"}
-
-
 def verification_of(certificate: Certificate, payload: PayloadCheck | None = None) -> VerificationOut:
-    """The public JSON verification: the facts the paper prints, its status now, and the QR check."""
-    status = certificate_status(certificate)
-    superseded_by = certificate.superseded_by
+    """The public JSON verification: the facts the paper prints, what it means now, and the QR check."""
+    status = public_status(certificate.kind, certificate_status(certificate))
+    revocation = certificate.revocation if status == "revoked" else None
+    newer = certificate.superseded_by if status == "superseded" else None
     return VerificationOut.model_validate(
         {
             "number": certificate.number,
-            "kind": "certificate" if certificate.kind == "compliant" else "refusal",
-            "status": PUBLIC_STATUS[status],
+            "kind": public_kind(certificate.kind),
+            "status": status,
+            "in_force": in_force(status),
             "registration_number": certificate.registration_number,
             "max_compliant_occupants": certificate.max_compliant_occupants,
             "issued_on": local_date(certificate.issued_at),
             "valid_until": local_date(certificate.expires_at),
-            "superseded_by": superseded_by.number if superseded_by is not None else None,
+            "revoked_on": local_date(revocation.revoked_at) if revocation is not None else None,
+            "reason": revocation.reason if revocation is not None else None,
+            "superseded_by": newer.number if newer is not None else None,
+            "superseded_on": local_date(newer.issued_at) if newer is not None else None,
             "qr": None if payload is None else ("genuine" if payload.genuine else "not_genuine"),
-            "reason": None if payload is None else payload.reason,
-            "reason_text": None if payload is None else payload.message,
+            "qr_reason": None if payload is None else payload.reason,
+            "qr_reason_text": None if payload is None else payload.message,
         }
     )

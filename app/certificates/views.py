@@ -11,10 +11,20 @@ from starlette.responses import RedirectResponse, Response
 from app.certificates.keys import published_keys
 from app.certificates.models import Certificate
 from app.certificates.numbers import InvalidNumber, parse_number
-from app.certificates.records import certificate_facts, certificate_status, find_certificate, verify_base
+from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
 from app.certificates.verification import PayloadCheck, check_payload
 from app.certificates.verify_json import payload_param, verification_json, wants_json
+from app.certificates.wording import (
+    NumberRule,
+    number_headline,
+    public_status,
+    qr_explanation,
+    qr_title,
+    qr_tone,
+    sentence,
+)
 from app.config import get_settings
+from app.errors import NotFound
 from app.inspections import wording
 from app.text import without_refused
 from app.web.deps import SessionDep
@@ -44,6 +54,8 @@ def document_context(certificate: Certificate, payload: PayloadCheck | None = No
     facts = certificate_facts(certificate)
     kind = certificate.kind
     newer = certificate.superseded_by
+    public = public_status(kind, status)
+    genuine = payload is not None and payload.genuine
     return {
         "certificate": certificate,
         "facts": facts,
@@ -56,9 +68,11 @@ def document_context(certificate: Certificate, payload: PayloadCheck | None = No
         "valid_until": long_date(certificate.expires_at),
         "issued_on": long_date(certificate.issued_at),
         "newer_word": wording.document_kind(newer.kind) if newer is not None else None,
+        "public_status": public,
         "payload": payload,
-        "qr_genuine": wording.QR_GENUINE,
-        "qr_not_genuine": wording.QR_NOT_GENUINE,
+        "qr_tone": qr_tone(public, genuine),
+        "qr_title": qr_title(kind, public, genuine),
+        "qr_explanation": qr_explanation(public),
         "qr_reason": wording.qr_reason(payload.reason) if payload is not None else None,
     }
 
@@ -74,12 +88,8 @@ def verify_form(request: Request, number: Annotated[str | None, Query(max_length
     if number is not None and not errors:
         try:
             return RedirectResponse(f"/verify/{parse_number(number)}", status_code=303)
-        except InvalidNumber:
-            errors["number"] = (
-                f"{NUMBER_HINT} Check each character: the last letter does not match the others"
-                if number.strip()
-                else NUMBER_HINT
-            )
+        except InvalidNumber as error:  # the words the page of that number and the API give
+            errors["number"] = sentence(str(error)) if number.strip() else NUMBER_HINT
     return render(
         request,
         "certificates/verify_form.html",
@@ -104,8 +114,30 @@ def verify_page(
     p = payload_param(request) if p is not None else None
     if wants_json(request):
         return verification_json(session, number, p)
-    certificate = find_certificate(session, number)
-    if certificate is None:
-        return render(request, "certificates/not_found.html", {"number": number}, status_code=404)
+    try:
+        certificate = get_certificate(session, number)
+    except NotFound as missing:
+        return not_found_page(request, number, missing)
     payload = check_payload(p, published_keys(session, get_settings()), certificate) if p else None
     return render(request, "certificates/verify.html", document_context(certificate, payload))
+
+
+def not_found_page(request: Request, number: str, missing: NotFound) -> Response:
+    """404 under a red banner: the number finds no document, in the words of the form and the API."""
+    problem = missing.problems[0]
+    rules: dict[str, NumberRule] = {"format": "format", "check_letter": "check_letter"}
+    rule = rules.get(problem.rule, "exists")
+    message = sentence(problem.message.removeprefix("number: "))
+    return render(
+        request,
+        "certificates/not_found.html",
+        {
+            "number": number,
+            "rule": rule,
+            "headline": number_headline(rule),
+            "message": message,
+            "errors": {"number": message},
+            "values": {"number": number},
+        },
+        status_code=404,
+    )

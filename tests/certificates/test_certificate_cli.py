@@ -1,4 +1,7 @@
-"""`trikecert verify` checks a payload offline; revoke, reissue and key rotation from the command line."""
+"""`trikecert verify` checks a payload offline; revoke, reissue and key rotation from the command line.
+
+Since issue 21 `trikecert verify` names the status as the JSON verification does and exits 0 only for
+a certificate in force: a genuine refusal (the study's document) exits 3, where it exited 0 before."""
 
 from __future__ import annotations
 
@@ -11,15 +14,17 @@ from typing import Any
 from urllib.parse import quote
 
 import pytest
-from certificate_helpers import study_certificate
+from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, study_certificate, weigh
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from app import config
+from app.certificates.actors import Actor
 from app.certificates.keys import kid_of, okp_key, private_pem
 from app.certificates.models import CertificateAudit, SigningKey
+from app.certificates.service import revoke_certificate
 from app.cli import main
 from app.web.formatting import long_date
 
@@ -41,8 +46,11 @@ def test_verify_accepts_the_qr_url_against_a_saved_key_file(
     keys = tmp_path / "keys.json"
     keys.write_text(api.get("/.well-known/trikecert-keys.json").text)
     code, out, _err = run(capsys, "verify", issued["qr_url"], "--keys", str(keys))
-    assert code == 0
+    assert code == 3  # genuine, but a refusal certifies nothing
     assert f"GENUINE: signed by key {issued['key_id']}" in out
+    assert "\nstatus: refused (a refusal: the vehicle is NOT certified)\n" in out
+    assert "offline check: a revocation or a replacement shows online only" in out
+    assert "\nissuer: 127.0.0.1:8000\n" in out
     assert f"refusal {issued['number']} for BDG 252 QH" in out
     assert "\nThis vehicle must not carry passengers\n" in out
     issued_at, expires_at = (datetime.fromisoformat(issued[k]) for k in ("issued_at", "expires_at"))
@@ -142,9 +150,10 @@ def test_rotating_the_key_keeps_old_certificates_verifiable(
         (newer["key_id"], True),
         (issued["key_id"], False),
     ]
-    for body in (issued, newer):
-        code, _out, _err = run(capsys, "verify", body["qr_url"])
-        assert code == 0
+    for body, status in ((issued, "superseded"), (newer, "refused")):
+        code, out, _err = run(capsys, "verify", body["qr_url"])
+        assert code == 3  # genuine under either key; neither paper certifies the vehicle
+        assert f"\nstatus: {status} " in out
 
 
 def test_signing_keys_saves_the_published_set(
@@ -153,7 +162,7 @@ def test_signing_keys_saves_the_published_set(
     target = tmp_path / "saved.json"
     assert run(capsys, "signing-keys", "--output", str(target))[0] == 0
     assert json.loads(target.read_text())["keys"][0]["kid"] == issued["key_id"]
-    assert run(capsys, "verify", issued["qr_payload"], "--keys", str(target))[0] == 0
+    assert run(capsys, "verify", issued["qr_payload"], "--keys", str(target))[0] == 3  # a refusal
 
 
 @pytest.fixture
@@ -177,3 +186,20 @@ def test_a_configured_key_signs_and_is_published_but_its_private_half_is_never_s
     code, _out, err = run(capsys, "rotate-signing-key")
     assert code == 2
     assert "TRIKECERT_SIGNING_KEY" in err
+
+
+def test_verify_names_the_status_a_certificate_in_force_exits_0_and_a_revoked_one_3(
+    api: TestClient, session: Session, capsys: pytest.CaptureFixture[str]
+) -> None:
+    register(api, FRONT_HEAVY)
+    body = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    code, out, _err = run(capsys, "verify", body["qr_url"])
+    assert code == 0
+    assert "\nstatus: certified (a certificate in force: the vehicle is certified as below)\n" in out
+    assert "offline check" not in out  # this service's record was read
+    revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason="Wrong wheel readings")
+    code, out, _err = run(capsys, "verify", body["qr_url"])
+    assert code == 3
+    assert "\nstatus: revoked (REVOKED: it certifies nothing)\n" in out
+    assert ": Wrong wheel readings\n" in out
+    assert out.splitlines()[-1].startswith("revoked on ")

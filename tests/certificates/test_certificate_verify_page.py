@@ -52,8 +52,12 @@ def test_the_qr_url_shows_whether_its_signature_checks_out(
     assert issued["qr_url"].startswith("HTTP://127.0.0.1:8000/V/")
     genuine = client.get(issued["qr_url"].removeprefix("HTTP://127.0.0.1:8000"))
     assert genuine.url.path == f"/verify/{issued['number']}"
-    assert '<div class="qr-check qr-check--genuine" id="qr-check">' in genuine.text
-    assert '<p class="qr-check__title">The QR code is genuine</p>' in genuine.text
+    # Issue 21: the study's paper is a refusal, so a genuine code on it is red, never green.
+    assert '<div class="qr-check qr-check--refused" id="qr-check" data-genuine="true">' in genuine.text
+    assert (
+        '<p class="qr-check__title">The QR code is genuine, but this paper is a REFUSAL</p>' in genuine.text
+    )
+    assert "qr-check--genuine" not in genuine.text
     technical = genuine.text.split('<div class="details__text">', 1)[1]
     assert technical.startswith(f"<p>Signed with key <code>{issued['key_id']}</code>.</p>")
     assert issued["key_id"] not in genuine.text.split("<details>", 1)[0]
@@ -61,18 +65,36 @@ def test_the_qr_url_shows_whether_its_signature_checks_out(
     forged = token[:40] + ("A" if token[40] != "A" else "B") + token[41:]
     page = client.get(f"/verify/{issued['number']}", params={"p": forged})
     assert page.status_code == 200
-    assert '<div class="qr-check qr-check--forged" id="qr-check">' in page.text
+    assert '<div class="qr-check qr-check--forged" id="qr-check" data-genuine="false">' in page.text
     assert '<p class="qr-check__title">The QR code is NOT genuine: do not rely on this paper</p>' in page.text
     assert "The QR code is genuine" not in page.text
     assert page.text.index('id="qr-check"') < page.text.index('id="status"')
 
 
-def test_an_unknown_or_mistyped_number_is_a_404_page(client: TestClient, engine: object) -> None:
-    unknown = client.get(f"/verify/{CertificateNumber(2026, 777)}")
+def test_an_unknown_or_mistyped_number_is_a_404_page_under_a_red_banner(
+    client: TestClient, engine: object
+) -> None:
+    """Issue 21: a red banner (a plain heading before), with the words the form and the API give."""
+    number = str(CertificateNumber(2026, 777))
+    unknown = client.get(f"/verify/{number}")
     assert unknown.status_code == 404
-    assert "No certificate has this number" in unknown.text
-    assert client.get("/verify/TRK-2026-000777-Q").status_code == 404
-    assert client.get("/verify/nonsense").status_code == 404
+    assert '<div class="status status--unknown" id="status" data-status="exists">' in unknown.text
+    assert 'id="headline">NOT VALID: no certificate has this number</h1>' in unknown.text
+    api = client.get(f"/api/v1/verify/{number}").json()["detail"].removeprefix("number: ")
+    assert f'id="number-problem">{api[0].upper()}{api[1:]}.</p>' in unknown.text
+    mistyped = client.get("/verify/TRK-2026-000002-A")
+    assert mistyped.status_code == 404
+    assert 'id="headline">NOT VALID: the number is mistyped</h1>' in mistyped.text
+    form = client.get("/verify", params={"number": "TRK-2026-000002-A"})
+    api = client.get("/api/v1/verify/TRK-2026-000002-A").json()["detail"].removeprefix("number: ")
+    message = f"{api}.".replace("'", "&#39;")  # as Jinja escapes the quotes
+    assert api.endswith("has a wrong check letter: a character is mistyped or two are swapped")
+    assert f'id="number-problem">{message}</p>' in mistyped.text
+    assert f'<li><a href="#number">{message}</a></li>' in form.text
+    nonsense = client.get("/verify/nonsense")
+    assert nonsense.status_code == 404
+    assert 'id="headline">NOT VALID: this is not a certificate number</h1>' in nonsense.text
+    assert "status--valid" not in unknown.text + mistyped.text + nonsense.text
 
 
 def test_the_form_takes_a_number_and_explains_a_mistyped_one(

@@ -47,8 +47,8 @@ def pdf_text(api: TestClient, number: str, prefix: str = "/api/v1") -> str:
     return " ".join(" ".join(page.extract_text().split()) for page in reader.pages)
 
 
-def cli(capsys: pytest.CaptureFixture[str], *args: str) -> str:
-    assert main(list(args)) == 0
+def cli(capsys: pytest.CaptureFixture[str], *args: str, exit_status: int = 0) -> str:
+    assert main(list(args)) == exit_status
     out: str = capsys.readouterr().out
     return out
 
@@ -93,7 +93,8 @@ def test_the_occupancy_verdict_and_validity_read_the_same_everywhere(
     assert f"{'Valid' if until == 'Valid until' else 'Refusal stands'} until {valid_until}." in text
     assert "Certified maximum occupancy" not in text
 
-    out = cli(capsys, "verify", body["qr_url"])
+    # Issue 21: `trikecert verify` exits 3 for a genuine refusal (0 before), 0 only for a certificate.
+    out = cli(capsys, "verify", body["qr_url"], exit_status=0 if body["compliant"] else 3)
     assert f"\n{occupancy}\n" in out
     assert f", valid until {valid_until}\n" in out
 

@@ -1,0 +1,103 @@
+"""The verification's facts in words and codes, one function each: the public status a machine reads,
+the QR check as the verify page says it, and why a typed number finds no document.
+
+The JSON verification, the verify page and `trikecert verify` all take their status from here, so a
+refusal or a revoked certificate can never read as certified in one of them and not in another.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from app.inspections.wording import QR_GENUINE, QR_NOT_GENUINE, document_kind
+
+PublicStatus = Literal["certified", "refused", "revoked", "superseded", "expired"]
+QrTone = Literal["genuine", "forged", "refused", "revoked", "lapsed"]
+NumberRule = Literal["format", "check_letter", "exists"]
+
+
+def public_status(kind: str, status: str) -> PublicStatus:
+    """What a document means now: certified or refused while it stands, else revoked, superseded, expired."""
+    if status == "issued":
+        return "certified" if kind == "compliant" else "refused"
+    if status == "revoked":
+        return "revoked"
+    if status == "superseded":
+        return "superseded"
+    return "expired"
+
+
+def in_force(status: PublicStatus) -> bool:
+    """True only for a certificate that certifies the vehicle now; a refusal certifies nothing."""
+    return status == "certified"
+
+
+def public_kind(kind: str) -> Literal["certificate", "refusal"]:
+    """The document's kind as the public verification and the signed payload name it."""
+    return "certificate" if kind == "compliant" else "refusal"
+
+
+def qr_tone(status: PublicStatus, genuine: bool) -> QrTone:
+    """The QR check box's colour: green only for a genuine code on a certificate in force."""
+    if not genuine:
+        return "forged"
+    if status == "certified":
+        return "genuine"
+    if status in ("refused", "revoked"):
+        return status
+    return "lapsed"
+
+
+def qr_title(kind: str, status: PublicStatus, genuine: bool) -> str:
+    """The QR check box's title: genuine, genuine but not in force (and why), or NOT genuine."""
+    if not genuine:
+        return QR_NOT_GENUINE
+    if status == "certified":
+        return QR_GENUINE
+    if status == "refused":
+        return f"{QR_GENUINE}, but this paper is a REFUSAL"
+    word = document_kind(kind)
+    if status == "expired":
+        return f"{QR_GENUINE}, but this {word} has EXPIRED"
+    return f"{QR_GENUINE}, but this {word} was {status.upper()}"
+
+
+def qr_explanation(status: PublicStatus) -> str:
+    """What a genuine QR code vouches for, said so that it cannot be read as more than it is."""
+    signed = "It was signed by the issuing authority and matches this record"
+    if status == "certified":
+        return f"{signed}. The banner above says what the paper means."
+    if status == "refused":
+        return f"{signed}, but a refusal certifies nothing."
+    return f"{signed}, but the paper no longer counts."
+
+
+def not_on_record(number: str) -> str:
+    """Why a well-formed number finds nothing, as the verify page, its form and the API say it."""
+    return f"no certificate or refusal {number} is on record: a paper that shows this number is not valid"
+
+
+def number_headline(rule: NumberRule) -> str:
+    """The red banner's headline for a number that finds no document."""
+    if rule == "exists":
+        return "NOT VALID: no certificate has this number"
+    if rule == "check_letter":
+        return "NOT VALID: the number is mistyped"
+    return "NOT VALID: this is not a certificate number"
+
+
+def sentence(message: str) -> str:
+    """A message as a sentence on a page: its first letter in capitals, a full stop at the end."""
+    text = message[:1].upper() + message[1:]
+    return text if text.endswith(".") else f"{text}."
+
+
+def status_meaning(status: PublicStatus) -> str:
+    """A public status in a few words, for the command line: what a reader may do with the paper."""
+    return {
+        "certified": "a certificate in force: the vehicle is certified as below",
+        "refused": "a refusal: the vehicle is NOT certified",
+        "revoked": "REVOKED: it certifies nothing",
+        "superseded": "SUPERSEDED: only the newer document counts",
+        "expired": "EXPIRED: the vehicle must be weighed again",
+    }[status]
