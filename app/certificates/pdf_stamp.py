@@ -8,8 +8,9 @@ the stamp. Re-rendering the document with a stamp layer would instead print toda
 fonts, not the paper that was issued.
 
 On every page the stamp puts a red band in the top margin with the status, its date and its
-detail, and a large diagonal word ("REVOKED") across the page, translucent so the original stays
-readable underneath.
+detail (a band of more than one line of headline reaches over the top of the page's opening block,
+which the stamp contradicts anyway), and a large diagonal word ("REVOKED") across the page,
+translucent so the original stays readable underneath.
 """
 
 from __future__ import annotations
@@ -31,11 +32,11 @@ from app.inspections.wording import document_kind, status_headline_on
 from app.web.formatting import long_date
 
 STAMP_RGB = (176, 0, 0)
-BAND_TOP = 1.5  # mm from the page's top edge: the band fills the top margin, above the document
-BAND_PAD = 1.2
-HEADLINE_SIZE = 9.5
-DETAIL_SIZE = 8.0
-MAX_HEADLINE_LINES = 2  # a longer reason is cut with an ellipsis: the full text is on the verify page
+BAND_TOP = 5.0  # mm: the band fills the top margin, clear of the edge a printer cannot print
+BAND_PAD = 0.6
+HEADLINE_SIZE = 9.0
+DETAIL_SIZE = 7.5
+MAX_HEADLINE_LINES = 3  # a longer reason is cut with an ellipsis: the full text is on the verify page
 DIAGONAL_SIZE = 110.0  # pt: the word across the page
 DIAGONAL_OPACITY = 0.22
 ELLIPSIS = "\u2026"
@@ -112,6 +113,7 @@ def headline_lines(pdf: Page, headline: str) -> list[str]:
 
 
 def _band(pdf: Page, stamp: Stamp) -> None:
+    """The red band in the top margin: the status with its date and detail, and where the record is."""
     lines = headline_lines(pdf, stamp.headline)
     width = CONTENT_W - 2 * BAND_PAD
     height = (
