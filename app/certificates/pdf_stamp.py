@@ -8,9 +8,10 @@ the stamp. Re-rendering the document with a stamp layer would instead print toda
 fonts, not the paper that was issued.
 
 On every page the stamp puts a red band in the top margin with the status, its date and its
-detail (a band of more than one line of headline reaches over the top of the page's opening block,
-which the stamp contradicts anyway), and a large diagonal word ("REVOKED") across the page,
-translucent so the original stays readable underneath.
+detail (one line: a longer reason is cut short with an ellipsis, and the line under it says where
+the record is, reason in full), a large diagonal word ("REVOKED") across the page, translucent so
+the original stays readable underneath, and a red frame round the page. Nothing of the original
+is hidden.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 
 from fpdf import FPDF
+from fpdf.enums import TextMode
 from pypdf import PdfReader, PdfWriter
 
 from app.certificates import fonts
@@ -34,11 +36,14 @@ from app.web.formatting import long_date
 STAMP_RGB = (176, 0, 0)
 BAND_TOP = 5.0  # mm: the band fills the top margin, clear of the edge a printer cannot print
 BAND_PAD = 0.6
-HEADLINE_SIZE = 9.0
+HEADLINE_SIZE = 10.5
 DETAIL_SIZE = 7.5
-MAX_HEADLINE_LINES = 3  # a longer reason is cut with an ellipsis: the full text is on the verify page
+MAX_HEADLINE_LINES = 1  # a longer reason is cut with an ellipsis: the full text is on the verify page
 DIAGONAL_SIZE = 110.0  # pt: the word across the page
-DIAGONAL_OPACITY = 0.22
+DIAGONAL_OPACITY = 0.3  # the letters' fill: the text under them stays readable
+OUTLINE_OPACITY = 0.7  # their outline, so the word stands out even where the page is busy
+FRAME = 4.0  # mm from the edge: a red frame round every page, outside the document's own
+FRAME_W = 1.5
 ELLIPSIS = "\u2026"
 STAMP_EPOCH = datetime(2026, 1, 1, tzinfo=UTC)
 
@@ -94,6 +99,9 @@ def _overlay(stamp: Stamp) -> bytes:
     pdf = Page(continued="")
     pdf.set_creation_date(STAMP_EPOCH)  # only the page is used; a fixed date keeps the bytes the same
     pdf.add_page()
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(FRAME_W)
+    pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
     _band(pdf, stamp)
     _diagonal(pdf, stamp.word)
     return bytes(pdf.output())
@@ -142,6 +150,13 @@ def _diagonal(pdf: FPDF, word: str) -> None:
     cx, cy = PAGE_W / 2, PAGE_H / 2
     cap = size * 25.4 / 72 * 0.714  # Noto Sans' capital height, so the word is centred on the page
     pdf.set_text_color(*STAMP_RGB)
-    with pdf.local_context(fill_opacity=DIAGONAL_OPACITY), pdf.rotation(angle, cx, cy):
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(0.5)
+    with (
+        pdf.local_context(
+            fill_opacity=DIAGONAL_OPACITY, stroke_opacity=OUTLINE_OPACITY, text_mode=TextMode.FILL_STROKE
+        ),
+        pdf.rotation(angle, cx, cy),
+    ):
         pdf.text(cx - width / 2, cy + cap / 2, word)
     pdf.set_text_color(0, 0, 0)

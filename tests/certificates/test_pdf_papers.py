@@ -84,22 +84,22 @@ def rendered(pdf: bytes, page: int = 0, dpi: int = 100) -> Image.Image:
     return image
 
 
-def is_red(pixel: tuple[int, int, int]) -> bool:
-    """A strong red, as the refusal's band and frame and the stamp print."""
+def is_red(pixel: Any) -> bool:
+    """A strong red, as the refusal's band and frame and the stamp print (an RGB pixel)."""
     r, g, b = pixel
-    return r > 140 and g < 60 and b < 60
+    return bool(r > 140 and g < 60 and b < 60)
 
 
 def red_share(image: Image.Image) -> float:
     """The share of the page's pixels that are red."""
     colours = image.getcolors(maxcolors=image.width * image.height) or []
-    return sum(count for count, colour in colours if is_red(colour)) / (image.width * image.height)
+    red = sum(count for count, colour in colours if is_red(colour))
+    return red / (image.width * image.height)
 
 
-def at(image: Image.Image, x_mm: float, y_mm: float, dpi: int = 100) -> tuple[int, int, int]:
-    """The pixel at a point given in mm from the page's top left."""
-    pixel: tuple[int, int, int] = image.getpixel((round(x_mm / MM * dpi), round(y_mm / MM * dpi)))
-    return pixel
+def at(image: Image.Image, x_mm: float, y_mm: float, dpi: int = 100) -> Any:
+    """The RGB pixel at a point given in mm from the page's top left."""
+    return image.getpixel((round(x_mm / MM * dpi), round(y_mm / MM * dpi)))
 
 
 def download(client: TestClient, path: str, **headers: str) -> Any:
@@ -228,7 +228,9 @@ def qr_width_mm(pdf: bytes) -> float:
     box = image.crop((round(cx) - reach, round(cy) - reach, round(cx) + reach, round(cy) + reach)).convert(
         "L"
     )
-    left, _top, right, _bottom = box.point(lambda value: 255 if value < 128 else 0).getbbox()
+    dark = box.point(lambda value: 255 if value < 128 else 0).getbbox()
+    assert dark is not None
+    left, _top, right, _bottom = dark
     return (right - left) / dpi * MM
 
 
@@ -331,3 +333,23 @@ def test_an_expired_refusal_downloads_stamped_expired(
     answer = download(api, f"/api/v1/certificates/{body['number']}/pdf")
     assert answer.headers["x-document-status"] == "expired"
     assert_stamped(answer.content, original, body["pdf_sha256"], f"EXPIRED on {long_date(expires)}")
+
+
+def test_a_long_reason_is_cut_to_one_line_of_the_band_and_the_line_under_it_says_where_it_is(
+    api: TestClient, session: Session
+) -> None:
+    body = certificate(api)
+    original = download(api, f"/api/v1/certificates/{body['number']}/pdf").content
+    reason = "The rear wheels were weighed on an uncalibrated scale " * 12
+    revoke_certificate(session, number=body["number"], actor=Actor.of_cli(), reason=reason)
+    pdf = download(api, f"/api/v1/certificates/{body['number']}/pdf").content
+    [text] = page_texts(pdf)
+    band, under, *_rest = first_lines(text, 3)
+    assert band.startswith("REVOKED on ")
+    assert band.endswith("\u2026")
+    assert " ".join(reason.split()).startswith(band.split(": ", 1)[1].removesuffix("\u2026").strip())
+    assert (
+        under
+        == f"Not in force: do not rely on this paper. The record: http://127.0.0.1:8000/verify/{body['number']}"
+    )
+    assert pdf.startswith(original)
