@@ -10,8 +10,8 @@ fonts, not the paper that was issued.
 On every page the stamp puts a red band in the top margin with the status, its date and its
 detail (one line: a longer reason is cut short with an ellipsis, and the line under it says where
 the record is, reason in full), a large diagonal word ("REVOKED") across the page, translucent so
-the original stays readable underneath, and a red frame round the page. Nothing of the original
-is hidden.
+the original stays readable underneath, and a red frame round the page; a certificate's opening
+"CERTIFIED: ..." is struck through. Nothing of the original is hidden.
 """
 
 from __future__ import annotations
@@ -28,6 +28,8 @@ from pypdf import PdfReader, PdfWriter
 
 from app.certificates import fonts
 from app.certificates.models import Certificate
+from app.certificates.pdf import HEADLINE_PAD
+from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
 from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
 from app.certificates.records import Status
 from app.inspections.wording import document_kind, status_headline_on
@@ -36,7 +38,7 @@ from app.web.formatting import long_date
 STAMP_RGB = (176, 0, 0)
 BAND_TOP = 5.0  # mm: the band fills the top margin, clear of the edge a printer cannot print
 BAND_PAD = 0.6
-HEADLINE_SIZE = 10.5
+BAND_SIZE = 10.5
 DETAIL_SIZE = 7.5
 MAX_HEADLINE_LINES = 1  # a longer reason is cut with an ellipsis: the full text is on the verify page
 DIAGONAL_SIZE = 110.0  # pt: the word across the page
@@ -44,6 +46,9 @@ DIAGONAL_OPACITY = 0.3  # the letters' fill: the text under them stays readable
 OUTLINE_OPACITY = 0.7  # their outline, so the word stands out even where the page is busy
 FRAME = 4.0  # mm from the edge: a red frame round every page, outside the document's own
 FRAME_W = 1.5
+CERTIFIED = "CERTIFIED:"  # how a certificate's opening block begins (wording.document_headline)
+STRIKE_AT = 0.45  # of the opening line's height: through the middle of its capitals
+STRIKE_W = 1.4  # mm
 ELLIPSIS = "\u2026"
 STAMP_EPOCH = datetime(2026, 1, 1, tzinfo=UTC)
 
@@ -84,38 +89,53 @@ def stamp_of(certificate: Certificate, status: Status, verify_address: str) -> S
 
 def stamped_pdf(original: bytes, stamp: Stamp) -> bytes:
     """The stored PDF with `stamp` over every page, appended as an incremental update."""
-    overlay = PdfReader(io.BytesIO(_overlay(stamp))).pages[0]
     writer = PdfWriter(io.BytesIO(original), incremental=True)
-    for page in writer.pages:
-        page.merge_page(overlay)
+    # A paper that opens "CERTIFIED: ..." (those issued since the opening block) has that line
+    # struck through on its first page.
+    struck = writer.pages[0].extract_text().lstrip().startswith(CERTIFIED)
+    overlays = PdfReader(io.BytesIO(_overlay(stamp, struck))).pages
+    for number, page in enumerate(writer.pages):
+        page.merge_page(overlays[0 if number == 0 else -1])
         page.compress_content_streams()
     out = io.BytesIO()
     writer.write(out)
     return out.getvalue()
 
 
-def _overlay(stamp: Stamp) -> bytes:
-    """One A4 page with only the stamp on it, in the documents' embedded font."""
+def _overlay(stamp: Stamp, struck: bool) -> bytes:
+    """The stamp on A4 pages of its own, in the documents' embedded font: the first page's (with
+    the opening line struck through when `struck`), then the other pages'."""
     pdf = Page(continued="")
-    pdf.set_creation_date(STAMP_EPOCH)  # only the page is used; a fixed date keeps the bytes the same
-    pdf.add_page()
-    pdf.set_draw_color(*STAMP_RGB)
-    pdf.set_line_width(FRAME_W)
-    pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
-    _band(pdf, stamp)
-    _diagonal(pdf, stamp.word)
+    pdf.set_creation_date(STAMP_EPOCH)  # only the pages are used; a fixed date keeps the bytes the same
+    for first in (True, False):
+        pdf.add_page()
+        pdf.set_draw_color(*STAMP_RGB)
+        pdf.set_line_width(FRAME_W)
+        pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
+        _band(pdf, stamp)
+        _diagonal(pdf, stamp.word)
+        if first and struck:
+            _strike(pdf)
     return bytes(pdf.output())
+
+
+def _strike(pdf: Page) -> None:
+    """A red line through the opening block's first line ("CERTIFIED: ...")."""
+    y = MARGIN + HEADLINE_PAD + line_height(OPENING_SIZE) * STRIKE_AT
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(STRIKE_W)
+    pdf.line(MARGIN + HEADLINE_PAD - 1, y, PAGE_W - MARGIN - HEADLINE_PAD + 1, y)
 
 
 def headline_lines(pdf: Page, headline: str) -> list[str]:
     """The headline wrapped in the band, at most MAX_HEADLINE_LINES, the last cut with an ellipsis."""
     width = CONTENT_W - 2 * BAND_PAD
-    lines = pdf.lines(width, headline, HEADLINE_SIZE, bold=True)
+    lines = pdf.lines(width, headline, BAND_SIZE, bold=True)
     if len(lines) <= MAX_HEADLINE_LINES:
         return lines
     kept = lines[: MAX_HEADLINE_LINES - 1]
     last = " ".join(lines[MAX_HEADLINE_LINES - 1 :])
-    while last and len(pdf.lines(width, last + ELLIPSIS, HEADLINE_SIZE, bold=True)) > 1:
+    while last and len(pdf.lines(width, last + ELLIPSIS, BAND_SIZE, bold=True)) > 1:
         last = last[:-1].rstrip()
     return [*kept, last + ELLIPSIS]
 
@@ -125,14 +145,14 @@ def _band(pdf: Page, stamp: Stamp) -> None:
     lines = headline_lines(pdf, stamp.headline)
     width = CONTENT_W - 2 * BAND_PAD
     height = (
-        len(lines) * line_height(HEADLINE_SIZE) + pdf.measure(width, stamp.detail, DETAIL_SIZE) + 2 * BAND_PAD
+        len(lines) * line_height(BAND_SIZE) + pdf.measure(width, stamp.detail, DETAIL_SIZE) + 2 * BAND_PAD
     )
     pdf.set_fill_color(*STAMP_RGB)
     pdf.rect(MARGIN, BAND_TOP, CONTENT_W, height, style="F")
     pdf.set_text_color(255, 255, 255)
     y = BAND_TOP + BAND_PAD
     for line in lines:
-        y = pdf.box(MARGIN + BAND_PAD, y, width, line, HEADLINE_SIZE, bold=True)
+        y = pdf.box(MARGIN + BAND_PAD, y, width, line, BAND_SIZE, bold=True)
     pdf.box(MARGIN + BAND_PAD, y, width, stamp.detail, DETAIL_SIZE)
     pdf.set_text_color(0, 0, 0)
 

@@ -34,7 +34,8 @@ from app.accounts.service import create_user
 from app.certificates.actors import Actor
 from app.certificates.facts import CaseFacts
 from app.certificates.models import Certificate
-from app.certificates.pdf import places_for, refusal_reason
+from app.certificates.pdf import HEADLINE_PAD, HEADLINE_SIZE, places_for, refusal_reason
+from app.certificates.pdf_layout import MARGIN, line_height
 from app.certificates.service import revoke_certificate
 from app.web.formatting import long_date
 
@@ -294,6 +295,10 @@ def test_a_revoked_certificate_downloads_stamped_from_the_api_and_the_officer_pa
     assert api.get(path, headers={"If-None-Match": answer.headers["etag"]}).status_code == 304
     assert download(api, path).content == answer.content  # generated from the record, the same each time
     screenshot(answer.content, "revoked-pdf")
+    # "CERTIFIED: ..." struck through in red: at the middle of the opening line, red where it was black.
+    y = MARGIN + HEADLINE_PAD + line_height(HEADLINE_SIZE) * 0.45
+    assert not is_red(at(rendered(original), 100, y))
+    assert is_red(at(rendered(answer.content), 100, y))
 
     # The record is as it was: the stored bytes, their hash.
     assert stored(session, number) == original
