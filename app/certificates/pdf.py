@@ -1,6 +1,9 @@
 """The certificate (or refusal) as an A4 PDF with real, selectable text in an embedded Unicode font.
 
-Rendered once when the certificate is issued; the bytes are stored and served unchanged. The text
+It opens with what it allows: a certificate with a black-framed "CERTIFIED: the driver and up to 2
+passengers", a refusal with a solid red "NOT CERTIFIED: REFUSAL" band and what the vehicle may carry,
+its pages framed in red. Rendered once when the document is issued; the bytes are stored and served
+unchanged while it is in force (pdf_stamp.py stamps a copy once it is not). The text
 is set in Noto Sans (fonts.py), so Yoruba, Hausa and Igbo names print as written; every block is
 measured before it is drawn (pdf_layout.py), so long makes, models, station names and many loading
 cases wrap or move to a second page instead of running into the QR code or the chart.

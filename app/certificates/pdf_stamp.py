@@ -134,7 +134,7 @@ def headline_lines(pdf: Page, headline: str) -> list[str]:
     if len(lines) <= MAX_HEADLINE_LINES:
         return lines
     kept = lines[: MAX_HEADLINE_LINES - 1]
-    last = " ".join(lines[MAX_HEADLINE_LINES - 1 :])
+    last = lines[MAX_HEADLINE_LINES - 1]
     while last and len(pdf.lines(width, last + ELLIPSIS, BAND_SIZE, bold=True)) > 1:
         last = last[:-1].rstrip()
     return [*kept, last + ELLIPSIS]
