@@ -136,8 +136,12 @@ def read_certificate(number: NumberPath, session: SessionDep, station: StationDe
             "the file still begins with the original bytes, whose SHA-256 is `X-Original-SHA256`).",
             "headers": {
                 "X-Document-Status": {
-                    "description": "issued, revoked, superseded or expired: what the paper shows",
-                    "schema": {"type": "string", "enum": ["issued", "revoked", "superseded", "expired"]},
+                    "description": "What the paper shows: certified or refused (in force), or revoked, "
+                    "superseded or expired (stamped so)",
+                    "schema": {
+                        "type": "string",
+                        "enum": ["certified", "refused", "revoked", "superseded", "expired"],
+                    },
                 },
                 "X-Original-SHA256": {
                     "description": "The SHA-256 of the PDF as stored at issue (`pdf_sha256`)",

@@ -161,7 +161,9 @@ def test_a_certificate_opens_with_the_occupancy_it_certifies(api: TestClient) ->
 
 def test_a_refusal_opens_in_red_with_not_certified_and_what_the_vehicle_may_carry(api: TestClient) -> None:
     body = study_certificate(api)
-    pdf = download(api, f"/api/v1/certificates/{body['number']}/pdf").content
+    answer = download(api, f"/api/v1/certificates/{body['number']}/pdf")
+    assert answer.headers["x-document-status"] == "refused"  # never "issued" or "valid" to a machine
+    pdf = answer.content
     screenshot(pdf, "refusal-pdf")
     [text] = page_texts(pdf)
     assert first_lines(text, 3) == [
@@ -278,7 +280,7 @@ def test_a_revoked_certificate_downloads_stamped_from_the_api_and_the_officer_pa
     path = f"/api/v1/certificates/{number}/pdf"
     clean = download(api, path)
     original = clean.content
-    assert clean.headers["x-document-status"] == "issued"
+    assert clean.headers["x-document-status"] == "certified"
     assert clean.headers["etag"] == f'"{sha256}"'
     assert f'filename="{number}.pdf"' in clean.headers["content-disposition"]
 
