@@ -14,7 +14,7 @@ import os
 import re
 import shutil
 import subprocess
-from datetime import UTC, datetime, timedelta
+from datetime import datetime, timedelta
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -285,8 +285,8 @@ def test_a_revoked_certificate_downloads_stamped_from_the_api_and_the_officer_pa
     assert f'filename="{number}.pdf"' in clean.headers["content-disposition"]
 
     revoke_certificate(session, number=number, actor=Actor.of_cli(), reason=REASON)
-    today = long_date(datetime.now(UTC))
-    headline = f"REVOKED on {today}: {REASON}"
+    revoked_at = api.get(f"/api/v1/certificates/{number}").json()["revocation"]["revoked_at"]
+    headline = f"REVOKED on {long_date(datetime.fromisoformat(revoked_at))}: {REASON}"
     # A copy fetched before the revocation is not current any more: never a 304 for the clean paper.
     answer = download(api, path, **{"If-None-Match": f'"{sha256}"'})
     assert answer.headers["x-document-status"] == "revoked"
