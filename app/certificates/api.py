@@ -131,11 +131,30 @@ def read_certificate(number: NumberPath, session: SessionDep, station: StationDe
     "/certificates/{number}/pdf",
     response_class=Response,
     responses={
-        200: {"content": {"application/pdf": {}}, "description": "The PDF, byte for byte as issued."},
+        200: {
+            "content": {"application/pdf": {}},
+            "description": "The PDF: byte for byte as issued while in force; once revoked, superseded "
+            "or expired, the stored original with a stamp across every page (an incremental update: "
+            "the file still begins with the original bytes, whose SHA-256 is `X-Original-SHA256`).",
+            "headers": {
+                "X-Document-Status": {
+                    "description": "What the paper shows: certified or refused (in force), or revoked, "
+                    "superseded or expired (stamped so)",
+                    "schema": {
+                        "type": "string",
+                        "enum": ["certified", "refused", "revoked", "superseded", "expired"],
+                    },
+                },
+                "X-Original-SHA256": {
+                    "description": "The SHA-256 of the PDF as stored at issue (`pdf_sha256`)",
+                    "schema": {"type": "string", "pattern": "^[0-9a-f]{64}$"},
+                },
+            },
+        },
         304: {"description": "Not modified: the ETag given in If-None-Match still matches."},
         **error_responses(401, 404, 422),
     },
-    summary="Download one of this station's certificate PDFs (the same bytes every time; ETag)",
+    summary="Download one of this station's certificate PDFs, stamped once no longer in force (ETag)",
 )
 def read_certificate_pdf(
     number: NumberPath,
@@ -143,7 +162,8 @@ def read_certificate_pdf(
     station: StationDep,
     if_none_match: Annotated[str | None, Header(max_length=1000)] = None,
 ) -> Response:
-    """The PDF rendered at issue; its ETag is the SHA-256 of the bytes. 404 for another station's."""
+    """The PDF rendered at issue, or, once revoked, superseded or expired, that PDF with a stamp across
+    every page saying so (file name `NUMBER-REVOKED.pdf` and so on). 404 for another station's."""
     return pdf_response(session, station_certificate(session, number, station), if_none_match)
 
 

@@ -60,8 +60,8 @@ def chart_height(room: float) -> float | None:
 
 
 def short_label(occupants: int) -> str:
-    """The axis name of a case: None, Driver, +1, +2, ..."""
-    return {0: "None", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
+    """The axis name of a case: Empty, Driver, +1, +2, ..."""
+    return {0: "Empty", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
 
 
 def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> tuple[float, float, float, float]:

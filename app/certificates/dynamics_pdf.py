@@ -11,6 +11,8 @@ from app.certificates.chart import Box
 from app.certificates.dynamics_facts import EstimateFacts
 from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
 from app.inspections.dynamics_wording import SECTION_LEAD, SECTION_TITLE
+from app.inspections.wording import case_name
+from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
 
 HEADINGS = ("Occupants", "Centre of gravity height", "Rollover threshold", "Tilt angle", "Critical speed")
@@ -20,6 +22,11 @@ SIZE = 8.0
 PADDING = 1.2
 MAP_W, MAP_H = 92.0, 46.0  # the plotting area (mm)
 MAP_LEFT, MAP_ABOVE, MAP_BELOW = 9.0, 7.0, 9.0  # tick labels, the axis title and legend, the LSF axis
+
+
+def _name(label: str) -> str:
+    """A stored case label as the document names it (the empty case is never plain 'None')."""
+    return case_name(0) if label == case_label(0) else label
 
 
 def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
@@ -70,7 +77,13 @@ def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, ro
     pdf.c_margin = PADDING
     for case in estimates.cases:
         pdf.set_xy(MARGIN, y)
-        row = (case.label, case.cg_height, case.rollover_threshold, case.tilt_angle, case.critical_speed)
+        row = (
+            _name(case.label),
+            case.cg_height,
+            case.rollover_threshold,
+            case.tilt_angle,
+            case.critical_speed,
+        )
         for width, align, value in zip(WIDTHS, ALIGN, row, strict=True):
             pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
         y += row_h

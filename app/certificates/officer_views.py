@@ -94,7 +94,7 @@ def officer_certificate_pdf(
     _login: CurrentLogin,
     if_none_match: Annotated[str | None, Header(max_length=1000)] = None,
 ) -> Response:
-    """The stored PDF, as the station API serves it (ETag, 304)."""
+    """The stored PDF, stamped once no longer in force, as the station API serves it (ETag, 304)."""
     return pdf_response(session, get_certificate(session, number), if_none_match)
 
 

@@ -1,6 +1,9 @@
 """The certificate (or refusal) as an A4 PDF with real, selectable text in an embedded Unicode font.
 
-Rendered once when the certificate is issued; the bytes are stored and served unchanged. The text
+It opens with what it allows: a certificate with a black-framed "CERTIFIED: the driver and up to 2
+passengers", a refusal with a solid red "NOT CERTIFIED: REFUSAL" band and what the vehicle may carry,
+its pages framed in red. Rendered once when the document is issued; the bytes are stored and served
+unchanged while it is in force (pdf_stamp.py stamps a copy once it is not). The text
 is set in Noto Sans (fonts.py), so Yoruba, Hausa and Igbo names print as written; every block is
 measured before it is drawn (pdf_layout.py), so long makes, models, station names and many loading
 cases wrap or move to a second page instead of running into the QR code or the chart.
@@ -8,19 +11,30 @@ cases wrap or move to a second page instead of running into the QR code or the c
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime
+from decimal import Decimal
 
 import segno
 
 from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.dynamics_pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
-from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_W, Layout, Page, line_height
-from app.inspections.wording import document_kind, document_title, verdict_mark
-from app.web.formatting import kg, limit_text, load_kg, local_time, long_date, ratio, signed
+from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
+from app.inspections.wording import (
+    case_name,
+    document_headline,
+    document_kind,
+    document_title,
+    rules_words,
+    verdict_mark,
+)
+from app.stability import LSF_LIMIT
+from app.web.formatting import fixed, kg, load_kg, local_time, long_date
 
-QR_BOX = 56.0  # mm, quiet zone included: a version 10 code (57 modules + 8) prints 0.86 mm modules
+QR_BOX = 56.0  # mm: the QR code's white square, its quiet zone included
+QR_SYMBOL = 48.0  # mm: the code itself (version 8 and up; a smaller version keeps 4 modules of quiet zone)
 QR_QUIET = 4  # modules of quiet zone on each side, as the QR standard asks
 QR_MASK = 1
 REMEDIES_CHART_W = 72.0  # mm: a refusal's chart, with the remedies in the column beside it
@@ -39,6 +53,15 @@ COLUMN_WIDTHS = (44.0, 24.0, 30.0, 20.0, 24.0, 20.0, 18.0)
 COLUMN_ALIGN = ("L", "R", "R", "R", "R", "R", "C")
 CELL_PADDING = 1.2  # mm left and right of the text in a table cell
 LABEL_W = 31.0  # the label column of the vehicle and inspection particulars
+HEADLINE_SIZE = 18.0  # pt: the opening block's "CERTIFIED: ..." or "NOT CERTIFIED: REFUSAL"
+HEADLINE_PAD = 2.5  # mm inside the opening block's frame
+HEADLINE_FRAME = 1.2  # mm: the opening block's frame
+NUMBER_SIZE = 20.0  # pt: the document's number, in the embedded bold face (digits of equal width)
+CERTIFIED_RGB = (0, 0, 0)
+REFUSAL_RGB = (176, 0, 0)
+PAGE_FRAME = 7.0  # mm from the edge: a refusal's red frame round every page
+PAGE_FRAME_W = 1.0
+MIN_PLACES, MAX_PLACES = 3, 6  # decimals of the LSF and its margins: enough never to contradict
 
 
 @dataclass(frozen=True)
@@ -69,12 +92,46 @@ def title(kind: str) -> str:
     return document_title(kind)
 
 
-def refusal_reason(case: CaseFacts) -> str:
+def places_for(cases: Sequence[CaseFacts]) -> int:
+    """The fewest decimals (3 or more) at which the LSFs and margins printed cannot contradict each other.
+
+    At 3 decimals LSF 0.7004 and 0.6996 both print 0.700 while their margins print 0.034 and 0.033,
+    and an LSF just above 2/3 prints as the limit itself: the document then prints one decimal more,
+    for every case, until two cases print the same LSF only with the same margin and no LSF off the
+    limit prints as the limit.
+    """
+    for places in range(MIN_PLACES, MAX_PLACES + 1):
+        limit = fixed(LSF_LIMIT, places)
+        margins: dict[str, set[str]] = {}
+        lsfs: dict[str, set[str]] = {}
+        for case in cases:
+            lsf, margin = fixed(case.lsf, places), fixed(case.variance, places)
+            margins.setdefault(lsf, set()).add(margin)
+            lsfs.setdefault(margin, set()).add(lsf)
+        on_limit = any(fixed(c.lsf, places) == limit and c.variance != 0 for c in cases)
+        if not on_limit and all(len(found) == 1 for found in (*margins.values(), *lsfs.values())):
+            return places
+    return MAX_PLACES
+
+
+def limit_words(places: int) -> str:
+    """The standard as the study prints it, to the document's decimals: 2/3 (0.667)."""
+    return f"{LSF_LIMIT.numerator}/{LSF_LIMIT.denominator} ({fixed(LSF_LIMIT, places)})"
+
+
+def signed_to(value: Decimal, places: int) -> str:
+    """A variance with its sign: +0.009, -0.030."""
+    text = fixed(value, places)
+    return text if text.startswith("-") else f"+{text}"
+
+
+def refusal_reason(case: CaseFacts, places: int = MIN_PLACES) -> str:
     """Why one loading case fails, and by how much."""
     excess = -case.variance
+    name, lsf, limit = case_name(case.occupants), fixed(case.lsf, places), limit_words(places)
     if excess == 0:
-        return f"{case.label}: LSF {ratio(case.lsf)} equals the limit {limit_text()}; it must be below it."
-    return f"{case.label}: LSF {ratio(case.lsf)} is above the limit {limit_text()} by {ratio(excess)}."
+        return f"{name}: LSF {lsf} equals the limit {limit}; it must be below it."
+    return f"{name}: LSF {lsf} is above the limit {limit} by {fixed(excess, places)}."
 
 
 def render_pdf(document: CertificateDocument) -> bytes:
@@ -85,7 +142,10 @@ def render_pdf(document: CertificateDocument) -> bytes:
 def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
     """The PDF bytes and where the layout put its graphics (for the geometry tests)."""
     facts = document.facts
-    pdf = Page(continued=f"{title(document.kind)} {document.number} (continued)")
+    name = f"{title(document.kind)} {document.number}"
+    if document.kind != "compliant":
+        name = f"NOT CERTIFIED: {name}"
+    pdf = Page(continued=f"{name} (continued)")
     pdf.set_creation_date(document.issued_at)
     pdf.set_title(f"{title(document.kind)} {document.number}")
     pdf.set_author(facts.authority)
@@ -94,29 +154,71 @@ def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
     pdf.set_lang("en")
     pdf.add_page()
 
+    places = places_for(facts.cases)
+    _headline(pdf, document)
     _header(pdf, document)
     _particulars(pdf, facts)
     _readings(pdf, facts)
-    _verdict(pdf, document)
-    _table(pdf, facts)
+    _reasons_block(pdf, document, places)
+    _table(pdf, facts, places)
     _chart(pdf, document)
     if facts.estimates is not None:
         draw_estimates(pdf, facts.estimates)
-    pdf.page_lines(f"{title(document.kind)} {document.number}")
+    pdf.page_lines(name)
+    if document.kind != "compliant":
+        _page_frames(pdf)
     pdf.layout.printable.report(document.number)
     return bytes(pdf.output()), pdf.layout
 
 
+def _headline(pdf: Page, document: CertificateDocument) -> None:
+    """The first thing on the page: what the paper allows, in a block a refusal cannot be mistaken for.
+
+    A certificate's is framed in black on white; a refusal's is a solid red band with the words in
+    white (still unlike a certificate's when photocopied in grey), and its pages are framed in red.
+    """
+    facts = document.facts
+    refusal = document.kind != "compliant"
+    inner = CONTENT_W - 2 * HEADLINE_PAD
+    lines: list[tuple[str, float, bool]] = [
+        (document_headline(document.kind, facts.max_compliant_occupants), HEADLINE_SIZE, True)
+    ]
+    if refusal:
+        lines.append((facts.occupancy, 13, True))
+    else:
+        lines.append((facts.verdict, 10, False))
+    height = sum(pdf.measure(inner, text, size, bold) for text, size, bold in lines) + 2 * HEADLINE_PAD
+    top = MARGIN
+    if refusal:
+        pdf.set_fill_color(*REFUSAL_RGB)
+        pdf.rect(MARGIN, top, CONTENT_W, height, style="F")
+        pdf.set_text_color(255, 255, 255)
+    else:
+        pdf.set_draw_color(*CERTIFIED_RGB)
+        pdf.set_line_width(HEADLINE_FRAME)
+        half = HEADLINE_FRAME / 2  # the frame drawn inside the block's box
+        pdf.rect(MARGIN + half, top + half, CONTENT_W - HEADLINE_FRAME, height - HEADLINE_FRAME, style="D")
+    y = top + HEADLINE_PAD
+    for text, size, bold in lines:
+        y = pdf.box(MARGIN + HEADLINE_PAD, y, inner, text, size, bold=bold)
+    pdf.set_text_color(0, 0, 0)
+    pdf.region("headline", MARGIN, top, CONTENT_W, height)
+    pdf.set_line_width(0.2)
+    pdf.set_draw_color(0, 0, 0)
+    pdf.set_xy(MARGIN, top + height)
+
+
 def _header(pdf: Page, document: CertificateDocument) -> None:
     left_w = CONTENT_W - QR_BOX - 6
+    # The QR code's white square (its quiet zone) stands right under the opening block; the text
+    # beside it a little lower, level with the code itself.
+    qr_top = pdf.get_y() + 0.5
+    top = qr_top + 2.5
     validity = "Valid" if document.kind == "compliant" else "Refusal stands"
-    y = pdf.box(MARGIN, MARGIN, left_w, document.facts.authority, 11, bold=True)
+    y = pdf.box(MARGIN, top, left_w, document.facts.authority, 11, bold=True)
     y = pdf.box(MARGIN, y, left_w, title(document.kind), 20, bold=True)
     y = pdf.box(MARGIN, y, left_w, f"{document_kind(document.kind).capitalize()} number", 9)
-    pdf.set_font("courier", "B", 22)  # the number is ASCII by construction (numbers.py)
-    pdf.set_xy(MARGIN, y)
-    pdf.cell(left_w, line_height(22), document.number)
-    y += line_height(22)
+    y = pdf.box(MARGIN, y, left_w, document.number, NUMBER_SIZE, bold=True)
     y = pdf.box(
         MARGIN,
         y,
@@ -129,20 +231,33 @@ def _header(pdf: Page, document: CertificateDocument) -> None:
         MARGIN,
         y,
         left_w,
-        "Status when issued: ISSUED. The current status (valid, expired, revoked or superseded) "
-        f"is at {document.verify_url}/{document.number}",
+        "This paper shows the record as issued. Whether it is still in force (or was revoked, "
+        f"superseded, or has expired) is at {document.verify_url}/{document.number}",
         8.5,
     )
     y = pdf.box(
         MARGIN, y, left_w, f"Scan to verify, or visit {document.verify_url} and enter the number", 8.5
     )
-    draw_qr(pdf, document.qr_url, PAGE_W - MARGIN - QR_BOX, MARGIN, QR_BOX)
-    bottom = max(y, MARGIN + QR_BOX) + 2
+    draw_qr(pdf, document.qr_url, PAGE_W - MARGIN - QR_BOX, qr_top, QR_BOX)
+    bottom = max(y + 2, qr_top + QR_BOX + 0.5)
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.5)
     pdf.line(MARGIN, bottom, PAGE_W - MARGIN, bottom)
     pdf.set_line_width(0.2)
     pdf.set_xy(MARGIN, bottom + 3)
+
+
+def _page_frames(pdf: Page) -> None:
+    """A refusal's red frame round every page, so no page of it passes for a certificate's."""
+    pages = pdf.page
+    for page in range(1, pages + 1):
+        pdf.page = page
+        pdf.set_draw_color(*REFUSAL_RGB)
+        pdf.set_line_width(PAGE_FRAME_W)
+        pdf.rect(PAGE_FRAME, PAGE_FRAME, PAGE_W - 2 * PAGE_FRAME, PAGE_H - 2 * PAGE_FRAME, style="D")
+    pdf.page = pages
+    pdf.set_line_width(0.2)
+    pdf.set_draw_color(0, 0, 0)
 
 
 def _particulars(pdf: Page, facts: Facts) -> None:
@@ -207,23 +322,26 @@ def _readings(pdf: Page, facts: Facts) -> None:
     pdf.set_xy(MARGIN, y + 2)
 
 
-def _reasons(facts: Facts) -> list[tuple[str, float]]:
+def _reasons(facts: Facts, places: int) -> list[tuple[str, float]]:
     failing = facts.failing_cases
     if len(failing) <= COMPACT_AFTER:
-        return [(f"- {refusal_reason(case)}", 9) for case in failing]
-    text = "; ".join(f"{c.label}: LSF {ratio(c.lsf)}, {ratio(-c.variance)} over" for c in failing)
-    return [(f"Limit {limit_text()}. {text}.", 8)]
+        return [(f"- {refusal_reason(case, places)}", 8.5) for case in failing]
+    text = "; ".join(
+        f"{case_name(c.occupants)}: LSF {fixed(c.lsf, places)}, {fixed(-c.variance, places)} over"
+        for c in failing
+    )
+    return [(f"Limit {limit_words(places)}. {text}.", 8)]
 
 
-def _verdict(pdf: Page, document: CertificateDocument) -> None:
+def _reasons_block(pdf: Page, document: CertificateDocument, places: int) -> None:
+    """A refusal's verdict and reasons: each failing case and by how much."""
     facts = document.facts
+    if document.kind == "compliant":
+        return
     blocks: list[tuple[str, float, bool]] = [
-        (facts.verdict, 12, True),
-        (facts.occupancy, 12, True),
+        (f"{facts.verdict} Reasons for refusal (cases that fail and by how much):", 8.5, True)
     ]
-    if document.kind == "refusal":
-        blocks.append(("Reasons for refusal (cases that fail and by how much):", 9, True))
-        blocks += [(text, size, False) for text, size in _reasons(facts)]
+    blocks += [(text, size, False) for text, size in _reasons(facts, places)]
     pdf.room(sum(pdf.measure(CONTENT_W, text, size, bold) for text, size, bold in blocks))
     y = pdf.get_y()
     for text, size, bold in blocks:
@@ -231,23 +349,23 @@ def _verdict(pdf: Page, document: CertificateDocument) -> None:
     pdf.set_xy(MARGIN, y + 2)
 
 
-def _row(case: CaseFacts) -> tuple[str, ...]:
+def _row(case: CaseFacts, places: int) -> tuple[str, ...]:
     return (
-        case.label + (" *" if case.measured else ""),
+        case_name(case.occupants) + (" *" if case.measured else ""),
         load_kg(case.total_kg),
         load_kg(case.rear_kg),
-        ratio(case.lsf),
-        limit_text(),
-        signed(case.variance),
+        fixed(case.lsf, places),
+        limit_words(places),
+        signed_to(case.variance, places),
         verdict_mark(case.compliant),
     )
 
 
-def _table(pdf: Page, facts: Facts) -> None:
+def _table(pdf: Page, facts: Facts, places: int) -> None:
     # Plain bordered cells: fpdf2's table() lays out every cell as a multi-line box, which cost a
     # third of the page's rendering time for rows that are always one line.
     size = 9.0 if len(facts.cases) <= COMPACT_AFTER else 8.0
-    rows = [_row(case) for case in facts.cases]
+    rows = [_row(case, places) for case in facts.cases]
     pdf.style(size)
     widest = max(
         pdf.get_string_width(value) / (width - 2 * CELL_PADDING)
@@ -302,8 +420,8 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
     area = draw_chart(pdf, Box(MARGIN + 12, top + 1, width, height), document.facts.cases)
     pdf.region("chart", *area)
     rules = (
-        f"Decided under rules {document.facts.inspection.rules_version}: a loading case complies only if "
-        "its LSF is below 2/3, decided exactly; figures are rounded for display."
+        f"Decided exactly under the rule: {rules_words(document.facts.inspection.rules_version)}; "
+        "the figures are rounded for display."
     )
     beside = area[0] + area[2] + 4
     column = PAGE_W - MARGIN - beside
@@ -321,15 +439,19 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
 
 
 def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:
-    """The QR code filling a `size` mm square, its quiet zone included, whatever its version."""
+    """The QR code, QR_SYMBOL mm wide, centred in a white `size` mm square (its quiet zone)."""
     # A fixed mask pattern: any of the eight decodes alike, and scoring all eight for the "best" one
     # (segno's default) costs four times the rest of the page.
     code = segno.make(data, error="m", boost_error=False, mask=QR_MASK)
-    rows = [list(row) for row in code.matrix_iter(border=QR_QUIET)]
-    module = size / len(rows)
+    rows = [list(row) for row in code.matrix_iter(border=0)]
+    # The code prints QR_SYMBOL mm wide whatever its version, centred in the white square; a version
+    # too small for that keeps the standard's 4 modules of quiet zone and prints smaller.
+    module = min(QR_SYMBOL / len(rows), size / (len(rows) + 2 * QR_QUIET))
+    x0 = y0 = (size - module * len(rows)) / 2
     pdf.region("qr", x, y, size, size)
     pdf.set_fill_color(255, 255, 255)
     pdf.rect(x, y, size, size, style="F")
+    x, y = x + x0, y + y0
     # One path of a rectangle per run of dark modules, filled once: a call of fpdf2's rect() per run
     # (about 1,500 of them) cost as much as the rest of the page.
     k, top = pdf.k, pdf.h

@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from decimal import Decimal
 from typing import Literal
 
+from app.stability.model import case_label
 from app.stability.remedies import Advice
 
 DocumentKind = Literal["compliant", "refusal"]
@@ -212,3 +213,27 @@ def remedy_applied(advice: Advice, remedy: str) -> str | None:
     if remedy == "seat_shift" and advice.seat_shift_m is not None:
         return f"after moving the rear bench {advice.seat_shift_m} m forward"
     return None
+
+
+def document_headline(kind: str, max_compliant_occupants: int) -> str:
+    """What a paper says first: 'CERTIFIED: the driver and up to 2 passengers' or 'NOT CERTIFIED: REFUSAL'."""
+    if kind != "compliant":
+        return "NOT CERTIFIED: REFUSAL"
+    if max_compliant_occupants <= 1:
+        return "CERTIFIED: the driver alone, no passengers"
+    return f"CERTIFIED: {occupancy_limit(max_compliant_occupants)}"
+
+
+def case_name(occupants: int) -> str:
+    """A loading case as a document names it: 'Empty (no occupants)', 'Driver', 'Driver + 2 passengers'."""
+    return "Empty (no occupants)" if occupants <= 0 else case_label(occupants)
+
+
+_RULES = {
+    "lsf<2/3:cumulative-cases:v1": "LSF below 2/3 in every loading case (rules v1)",
+}
+
+
+def rules_words(rules_version: str) -> str:
+    """The rules a verdict was decided under, in words: 'LSF below 2/3 in every loading case (rules v1)'."""
+    return _RULES.get(rules_version, f"rules {rules_version}")

@@ -70,7 +70,7 @@ def test_the_refusal_reads_like_table_4_with_the_verdict_in_words(
         "Standard (max)",
         "Variance",
         "Result",
-        "None 359.00 250.00 0.696 2/3 (0.667) -0.030 NC",
+        "Empty (no occupants) 359.00 250.00 0.696 2/3 (0.667) -0.030 NC",
         "Driver 431.00 283.49 0.658 2/3 (0.667) +0.009 C",
         "Driver + 1 passenger 503.00 342.18 0.680 2/3 (0.667) -0.014 NC",
         "Driver + 2 passengers 575.00 400.87 0.697 2/3 (0.667) -0.031 NC",
@@ -92,7 +92,7 @@ def test_a_compliant_vehicle_gets_a_certificate(api: TestClient) -> None:
     text = text_of(pdf_of(api, body["number"]))
     assert "Lateral Stability Certificate" in text
     assert "Refusal" not in text
-    assert "Certified for the driver and up to one passenger" in text
+    assert text.startswith("CERTIFIED: the driver and up to one passenger ")
     assert "MD6M14PA7L4F00123" in text
     assert "2021" in text
 

@@ -22,6 +22,7 @@ from app.accounts.service import create_user
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.cli import main
+from app.inspections.wording import document_headline
 from app.web.formatting import local_time, long_date
 
 REFUSAL_OCCUPANCY = "This vehicle must not carry passengers"
@@ -88,7 +89,11 @@ def test_the_occupancy_verdict_and_validity_read_the_same_everywhere(
     assert f"<p>{until} {valid_until}.</p>" in page
 
     text = pdf_text(api, body["number"])
-    assert occupancy in text
+    # The paper opens with what it allows (issue 21): a certificate's occupancy as its headline,
+    # worded by the same occupancy_limit; a refusal's sentence right under "NOT CERTIFIED: REFUSAL".
+    kind = "refusal" if vehicle is None else "compliant"
+    opening = document_headline(kind, body["max_compliant_occupants"])
+    assert text.startswith(opening if kind == "compliant" else f"{opening} {occupancy} "), text[:200]
     assert verdict in text
     assert f"{'Valid' if until == 'Valid until' else 'Refusal stands'} until {valid_until}." in text
     assert "Certified maximum occupancy" not in text

@@ -23,8 +23,10 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 import app.certificates.service as service
+from app.certificates.actors import Actor
 from app.certificates.pdf import CertificateDocument, render_with_layout
-from app.certificates.pdf_layout import Layout, Region
+from app.certificates.pdf_layout import MARGIN, Layout, Region
+from app.certificates.service import revoke_certificate
 from app.config import get_settings
 from app.stations.details import StationDetails
 from app.stations.service import create_station
@@ -35,7 +37,7 @@ YORUBA_STATION = "Ọ̀yọ́ weighbridge"
 CJK = "巴贾杰"
 # The chart's own words: inside its region nothing else may stand.
 CHART_WORDS = re.compile(
-    r"^(LSF|Shaded:|unstable|\(LSF|at|or|above|2/3\)|limit|2/3|C|NC|None|Driver|\+\d+|Loading|case|"
+    r"^(LSF|Shaded:|unstable|\(LSF|at|or|above|2/3\)|limit|2/3|C|NC|Empty|Driver|\+\d+|Loading|case|"
     r"\(occupants\)|\d\.\d\d)$"
 )
 # The stability map's own words (estimates beyond the static test).
@@ -56,6 +58,11 @@ class Word:
     y0: float
     x1: float
     y1: float
+
+    def inside(self, region: Region) -> bool:
+        """True when the word lies wholly within the region."""
+        x, y = region.x * MM, region.y * MM
+        return x <= self.x0 and self.x1 <= x + region.w * MM and y <= self.y0 and self.y1 <= y + region.h * MM
 
     def overlaps(self, other: Word | Region) -> bool:
         """True when the two boxes share area (touching edges do not count)."""
@@ -152,6 +159,14 @@ def assert_holds(document: Rendered) -> list[Word]:
                 assert not word.overlaps(other), (word, other)
     regions = document.layout.regions
     assert [r.kind for r in regions if r.kind == "qr"] == ["qr"]
+    # The opening block (CERTIFIED / NOT CERTIFIED) is the first thing on the page: its words lie
+    # wholly inside it, every other word of page 1 below it.
+    [headline] = [r for r in regions if r.kind == "headline"]
+    assert (headline.page, headline.y) == (1, MARGIN)
+    opening = [word for word in by_page[1] if word.overlaps(headline)]
+    assert opening
+    assert all(word.inside(headline) for word in opening), opening
+    assert all(word.y0 >= (headline.y + headline.h) * MM for word in by_page[1] if word not in opening)
     assert [r.page for r in regions if r.kind == "qr"] == [1]
     assert len([r for r in regions if r.kind == "chart"]) == 1
     for region in regions:
@@ -162,6 +177,8 @@ def assert_holds(document: Rendered) -> list[Word]:
         assert (region.y + region.h) * MM < height, region
         for word in by_page.get(region.page, []):
             if region.kind in REGION_WORDS and REGION_WORDS[region.kind].match(word.text):
+                continue
+            if region.kind == "headline" and word.inside(region):
                 continue
             assert not word.overlaps(region), (word, region)
     for i, first in enumerate(regions):
@@ -262,6 +279,37 @@ def test_the_extreme_certificate_wraps_breaks_pages_and_overlaps_nothing(
     warnings = [r.getMessage() for r in caplog.records if "drawn as U+FFFD" in r.getMessage()]
     assert len(warnings) == 1
     assert "U+5DF4" in warnings[0]
+
+
+def test_a_revoked_two_page_certificate_is_stamped_on_every_page_within_the_margins(
+    extreme_api: TestClient, session: Session, layouts: list[tuple[bytes, Layout]]
+) -> None:
+    register(extreme_api, EXTREME_VEHICLE)
+    inspection = extreme_api.post("/api/v1/inspections", json=extreme_inspection())
+    assert inspection.status_code == 201, inspection.text
+    document = issued(extreme_api, layouts, inspection.json()["id"])
+    number = document.body["number"]
+    revoke_certificate(session, number=number, actor=Actor.of_cli(), reason="Wrong wheel readings")
+    stamped = extreme_api.get(f"/api/v1/certificates/{number}/pdf").content
+    assert stamped.startswith(document.pdf)
+    before, _sizes = words_of(document.pdf)
+    after, sizes = words_of(stamped)
+    original = {(w.page, w.text, round(w.x0), round(w.y0)) for w in before}
+    stamp = [w for w in after if (w.page, w.text, round(w.x0), round(w.y0)) not in original]
+    assert {w.page for w in stamp} == {1, 2}
+    for page in (1, 2):
+        band = [w for w in stamp if w.page == page and w.y1 <= MARGIN * MM]
+        line = " ".join(w.text for w in sorted(band, key=lambda w: (round(w.y0), w.x0)))
+        assert line.startswith("REVOKED on "), line
+        assert "Wrong wheel readings" in line
+        across = [w.text for w in stamp if w.page == page and w not in band]  # read letter by letter
+        assert sorted("".join(across)) == sorted("REVOKED"), across
+        width, height = sizes[page - 1]
+        for word in band:
+            assert 5 * MM <= word.x0 < word.x1 <= width - 5 * MM, word
+            assert 5 * MM <= word.y0 < word.y1 <= height - 5 * MM, word
+            # The band stands in the top margin: it hides none of the document's words.
+            assert not any(word.overlaps(other) for other in before if other.page == page), word
 
 
 def test_the_study_refusal_is_one_page_and_overlaps_nothing(

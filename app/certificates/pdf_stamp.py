@@ -1,0 +1,182 @@
+"""A document no longer in force, as downloaded: the stored original with a stamp across every page.
+
+The stamp is drawn at download time from the record (the revocation's date and reason, the newer
+document's number and date, or the expiry) and added to a copy of the stored bytes as a PDF
+incremental update. The stored original is never changed: its bytes open the stamped file exactly
+as stored (so their SHA-256 still matches the record), and a reader shows the last revision, with
+the stamp. Re-rendering the document with a stamp layer would instead print today's wording and
+fonts, not the paper that was issued.
+
+On every page the stamp puts a red band in the top margin with the status, its date and its
+detail (one line: a longer reason is cut short with an ellipsis, and the line under it says where
+the record is, reason in full), a large diagonal word ("REVOKED") across the page, translucent so
+the original stays readable underneath, and a red frame round the page; a certificate's opening
+"CERTIFIED: ..." is struck through. Nothing of the original is hidden.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import math
+from dataclasses import dataclass
+from datetime import UTC, datetime
+
+from fpdf import FPDF
+from fpdf.enums import TextMode
+from pypdf import PdfReader, PdfWriter
+
+from app.certificates import fonts
+from app.certificates.models import Certificate
+from app.certificates.pdf import HEADLINE_PAD
+from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
+from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
+from app.certificates.records import Status
+from app.inspections.wording import document_kind, status_headline_on
+from app.web.formatting import long_date
+
+STAMP_RGB = (176, 0, 0)
+BAND_TOP = 5.0  # mm: the band fills the top margin, clear of the edge a printer cannot print
+BAND_PAD = 0.6
+BAND_SIZE = 10.5
+DETAIL_SIZE = 7.5
+MAX_HEADLINE_LINES = 1  # a longer reason is cut with an ellipsis: the full text is on the verify page
+DIAGONAL_SIZE = 110.0  # pt: the word across the page
+DIAGONAL_OPACITY = 0.3  # the letters' fill: the text under them stays readable
+OUTLINE_OPACITY = 0.7  # their outline, so the word stands out even where the page is busy
+FRAME = 4.0  # mm from the edge: a red frame round every page, outside the document's own
+FRAME_W = 1.5
+CERTIFIED = "CERTIFIED:"  # how a certificate's opening block begins (wording.document_headline)
+STRIKE_AT = 0.45  # of the opening line's height: through the middle of its capitals
+STRIKE_W = 1.4  # mm
+ELLIPSIS = "\u2026"
+STAMP_EPOCH = datetime(2026, 1, 1, tzinfo=UTC)
+
+
+@dataclass(frozen=True)
+class Stamp:
+    """What the stamp says: the status word, its headline (date and detail) and the line under it."""
+
+    status: Status
+    word: str
+    headline: str
+    detail: str
+
+    def etag(self, original_sha256: str) -> str:
+        """An ETag for the stamped file, from the original's hash and the stamp's words."""
+        text = "\n".join((original_sha256, self.headline, self.detail))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def stamp_of(certificate: Certificate, status: Status, verify_address: str) -> Stamp | None:
+    """The stamp for a document's status now, worded from the record; None while it is in force."""
+    kind = certificate.kind
+    if status == "revoked" and certificate.revocation is not None:
+        revocation = certificate.revocation
+        since = long_date(revocation.revoked_at)
+        headline = f"{status_headline_on(kind, status, since)}: {' '.join(revocation.reason.split())}"
+    elif status == "superseded" and certificate.superseded_by is not None:
+        newer = certificate.superseded_by
+        since = long_date(newer.issued_at)
+        headline = f"{status_headline_on(kind, status, since)} by {document_kind(newer.kind)} {newer.number}"
+    elif status == "expired":
+        headline = status_headline_on(kind, status, long_date(certificate.expires_at))
+    else:
+        return None
+    detail = f"Not in force: do not rely on this paper. The record: {verify_address}/{certificate.number}"
+    return Stamp(status=status, word=status.upper(), headline=headline, detail=detail)
+
+
+def stamped_pdf(original: bytes, stamp: Stamp) -> bytes:
+    """The stored PDF with `stamp` over every page, appended as an incremental update."""
+    writer = PdfWriter(io.BytesIO(original), incremental=True)
+    # A paper that opens "CERTIFIED: ..." (those issued since the opening block) has that line
+    # struck through on its first page.
+    struck = writer.pages[0].extract_text().lstrip().startswith(CERTIFIED)
+    overlays = PdfReader(io.BytesIO(_overlay(stamp, struck))).pages
+    for number, page in enumerate(writer.pages):
+        page.merge_page(overlays[0 if number == 0 else -1])
+        page.compress_content_streams()
+    out = io.BytesIO()
+    writer.write(out)
+    return out.getvalue()
+
+
+def _overlay(stamp: Stamp, struck: bool) -> bytes:
+    """The stamp on A4 pages of its own, in the documents' embedded font: the first page's (with
+    the opening line struck through when `struck`), then the other pages'."""
+    pdf = Page(continued="")
+    pdf.set_creation_date(STAMP_EPOCH)  # only the pages are used; a fixed date keeps the bytes the same
+    for first in (True, False):
+        pdf.add_page()
+        pdf.set_draw_color(*STAMP_RGB)
+        pdf.set_line_width(FRAME_W)
+        pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
+        _band(pdf, stamp)
+        _diagonal(pdf, stamp.word)
+        if first and struck:
+            _strike(pdf)
+    return bytes(pdf.output())
+
+
+def _strike(pdf: Page) -> None:
+    """A red line through the opening block's first line ("CERTIFIED: ...")."""
+    y = MARGIN + HEADLINE_PAD + line_height(OPENING_SIZE) * STRIKE_AT
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(STRIKE_W)
+    pdf.line(MARGIN + HEADLINE_PAD - 1, y, PAGE_W - MARGIN - HEADLINE_PAD + 1, y)
+
+
+def headline_lines(pdf: Page, headline: str) -> list[str]:
+    """The headline wrapped in the band, at most MAX_HEADLINE_LINES, the last cut with an ellipsis."""
+    width = CONTENT_W - 2 * BAND_PAD
+    lines = pdf.lines(width, headline, BAND_SIZE, bold=True)
+    if len(lines) <= MAX_HEADLINE_LINES:
+        return lines
+    kept = lines[: MAX_HEADLINE_LINES - 1]
+    last = lines[MAX_HEADLINE_LINES - 1]
+    while last and len(pdf.lines(width, last + ELLIPSIS, BAND_SIZE, bold=True)) > 1:
+        last = last[:-1].rstrip()
+    return [*kept, last + ELLIPSIS]
+
+
+def _band(pdf: Page, stamp: Stamp) -> None:
+    """The red band in the top margin: the status with its date and detail, and where the record is."""
+    lines = headline_lines(pdf, stamp.headline)
+    width = CONTENT_W - 2 * BAND_PAD
+    height = (
+        len(lines) * line_height(BAND_SIZE) + pdf.measure(width, stamp.detail, DETAIL_SIZE) + 2 * BAND_PAD
+    )
+    pdf.set_fill_color(*STAMP_RGB)
+    pdf.rect(MARGIN, BAND_TOP, CONTENT_W, height, style="F")
+    pdf.set_text_color(255, 255, 255)
+    y = BAND_TOP + BAND_PAD
+    for line in lines:
+        y = pdf.box(MARGIN + BAND_PAD, y, width, line, BAND_SIZE, bold=True)
+    pdf.box(MARGIN + BAND_PAD, y, width, stamp.detail, DETAIL_SIZE)
+    pdf.set_text_color(0, 0, 0)
+
+
+def _diagonal(pdf: FPDF, word: str) -> None:
+    """The status word, large, from the bottom left to the top right of the page."""
+    pdf.set_font(fonts.FAMILY, "B", DIAGONAL_SIZE)
+    angle = math.degrees(math.atan2(PAGE_H, PAGE_W))
+    size = DIAGONAL_SIZE
+    diagonal = math.hypot(PAGE_W, PAGE_H) * 0.78
+    while pdf.get_string_width(word) > diagonal:
+        size -= 4
+        pdf.set_font(fonts.FAMILY, "B", size)
+    width = pdf.get_string_width(word)
+    cx, cy = PAGE_W / 2, PAGE_H / 2
+    cap = size * 25.4 / 72 * 0.714  # Noto Sans' capital height, so the word is centred on the page
+    pdf.set_text_color(*STAMP_RGB)
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(0.5)
+    with (
+        pdf.local_context(
+            fill_opacity=DIAGONAL_OPACITY, stroke_opacity=OUTLINE_OPACITY, text_mode=TextMode.FILL_STROKE
+        ),
+        pdf.rotation(angle, cx, cy),
+    ):
+        pdf.text(cx - width / 2, cy + cap / 2, word)
+    pdf.set_text_color(0, 0, 0)
