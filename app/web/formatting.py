@@ -49,6 +49,11 @@ def signed(value: Decimal | Fraction | float) -> str:
     return text if text.startswith("-") else f"+{text}"
 
 
+def unbroken(text: str) -> str:
+    """A message for a page, each percentage kept on one line with its figure: '10.5\u00a0%'."""
+    return text.replace(" %", "\u00a0%")
+
+
 def limit_text() -> str:
     """The standard as the study prints it: 2/3 (0.667)."""
     return f"{LSF_LIMIT.numerator}/{LSF_LIMIT.denominator} ({ratio(LSF_LIMIT)})"

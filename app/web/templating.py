@@ -34,6 +34,7 @@ _env.filters.update(
     local_time=formatting.local_time,
     load_kg=formatting.load_kg,
     long_date=formatting.long_date,
+    unbroken=formatting.unbroken,
 )
 _env.globals.update(
     service_name=SERVICE_NAME,
