@@ -442,6 +442,7 @@ def settings_rows(settings: Settings) -> list[SettingRow]:
     rows = []
     for name, label, unit, meaning in SHOWN_SETTINGS:
         value = getattr(settings, name)
+        shown: str
         if name == "mfa":
             shown = settings.mfa_mode()  # unset: required in production, optional elsewhere
         else:
