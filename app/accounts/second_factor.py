@@ -72,8 +72,11 @@ def start_enrolment(session: Session, *, user: User, settings: Settings) -> Enro
         name=user.email, issuer_name=settings.issuing_authority
     )
     qr = segno.make(uri, error="m")
+    # A viewBox and no fixed size: the page's CSS scales the whole code, quiet zone included.
     return Enrolment(
-        secret=user.totp_secret, uri=uri, qr_svg=qr.svg_inline(scale=4, title="Enrolment QR code")
+        secret=user.totp_secret,
+        uri=uri,
+        qr_svg=qr.svg_inline(scale=4, omitsize=True, title="Enrolment QR code"),
     )
 
 

@@ -3,7 +3,8 @@
 One listener on every session's flush turns each new, changed or deleted account, station,
 vehicle, signing key, certificate, revocation and sign-in attempt into an event, so no service
 function can forget to record one. Who did it is the session's actor: the officer or station the
-request was authenticated as (`act_as`), else the process's (the command line), else anonymous.
+request was authenticated as (`act_as`); else, outside a request, the process's (the command line);
+else anonymous (a request nobody signed in for, even in a process `trikecert serve` started).
 Events are chained under a lock (PostgreSQL: a transaction-level advisory lock; SQLite: the writer
 lock the flush already holds), so two transactions never append after the same event.
 """
@@ -65,7 +66,14 @@ def acting_from_command_line() -> Iterator[None]:
 
 
 def _actor(session: Session) -> Actor:
-    return session.info.get(ACTOR_KEY) or _process_actor or ANONYMOUS
+    chosen: Actor | None = session.info.get(ACTOR_KEY)
+    if chosen is not None:
+        return chosen
+    if REQUEST_ORIGIN_KEY in session.info:
+        # A request's session: `trikecert serve` runs inside the command line's actor, which is not
+        # whoever sent the request.
+        return ANONYMOUS
+    return _process_actor or ANONYMOUS
 
 
 @dataclass(frozen=True)

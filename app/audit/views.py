@@ -24,7 +24,7 @@ from app.audit.service import (
 from app.config import get_settings
 from app.ids import PageNumber
 from app.web.deps import AdminLogin, SessionDep
-from app.web.formatting import day_bounds, local_today, to_local
+from app.web.formatting import day_bounds, local_today, long_date, to_local
 from app.web.forms import FormErrors, query_text, read_date
 from app.web.spreadsheet import Cell, csv_download
 from app.web.templating import render
@@ -154,7 +154,7 @@ def audit_page(
             "actor_kinds": ACTOR_KINDS,
             "action_groups": action_groups(sorted(actions)),
             "record_types": sorted(record_types),
-            "today": local_today().isoformat(),
+            "today": long_date(local_today()),
         },
         status_code=422 if errors else 200,
     )

@@ -59,8 +59,9 @@ class Actor:
 
 
 def station_shown_as(station: Station | str) -> str:
-    """A station (or its name) as documents name it when it acted by itself."""
-    return f"{station if isinstance(station, str) else station.name} (weighbridge station)"
+    """A station (or its name) as documents name it when it acted by itself: 'Ikeja weighbridge, weighbridge
+    station' (a comma, as a name may end in brackets of its own: 'Demo weighbridge (Agbara)')."""
+    return f"{station if isinstance(station, str) else station.name}, weighbridge station"
 
 
 def officer_of(session: Session, inspection: Inspection) -> User | None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from decimal import Decimal
 
 from markupsafe import Markup
 
@@ -21,6 +22,7 @@ from app.inspections.models import Inspection
 from app.stability import case_label
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
+from app.web.formatting import NOT_RECORDED
 
 
 @dataclass(frozen=True)
@@ -100,19 +102,24 @@ def inputs_used(inspection: Inspection, data: DynamicsInput, dynamics: Dynamics)
     revision = inspection.dynamics_revision
     stored = (inspection.dynamics_input or {}).get("cg_lift") or {}
     lift = data.cg_lift
-    heights = ", ".join(figure_text(z, 2) for z in vehicle.seat_heights_m) or "Not known"
+
+    def given(value: float | Decimal | None, places: int, unit: str = "") -> str:
+        # An input left empty on the vehicle's record, worded as every page words a gap.
+        return NOT_RECORDED if value is None else figure_text(value, places, unit)
+
+    heights = ", ".join(given(z, 2) for z in vehicle.seat_heights_m) or NOT_RECORDED
     rows = [
         ("Vehicle figures", f"revision {revision.revision}" if revision else "None on file"),
-        ("Rear track", figure_text(vehicle.track_m, 3, "m")),
-        ("Loaded rear wheel radius", figure_text(vehicle.wheel_radius_m, 3, "m")),
-        ("Seated heights, driver first", heights if heights == "Not known" else f"{heights} m"),
+        ("Rear track", given(vehicle.track_m, 3, "m")),
+        ("Loaded rear wheel radius", given(vehicle.wheel_radius_m, 3, "m")),
+        ("Seated heights, driver first", heights if heights == NOT_RECORDED else f"{heights} m"),
         (
             "Front tyre cornering stiffness",
-            figure_text(vehicle.front_cornering_stiffness_n_per_rad, 0, "N/rad"),
+            given(vehicle.front_cornering_stiffness_n_per_rad, 0, "N/rad"),
         ),
         (
             "Each rear tyre's cornering stiffness",
-            figure_text(vehicle.rear_cornering_stiffness_n_per_rad, 0, "N/rad"),
+            given(vehicle.rear_cornering_stiffness_n_per_rad, 0, "N/rad"),
         ),
     ]
     if lift is not None:

@@ -38,11 +38,11 @@ def input_words(name: str) -> str:
 
 
 def missing_sentence(missing: Sequence[str]) -> str | None:
-    """What is not known, so which figures are blank; None when nothing is missing."""
+    """Which inputs are not recorded, so which figures are blank; None when nothing is missing."""
     if not missing:
         return None
     return (
-        "Not known, so the figures that need them are blank: "
+        "Not recorded, so the figures that need them are blank: "
         + "; ".join(input_words(m) for m in missing)
         + "."
     )

@@ -14,6 +14,7 @@ from starlette.responses import RedirectResponse, Response
 from app.accounts.sessions import set_flash
 from app.certificates.actors import issued_by, recorded_by
 from app.certificates.facts import calibration_words
+from app.certificates.in_force import why_not_issuable
 from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
@@ -31,7 +32,7 @@ from app.vehicles.service import display_registration, find_vehicle
 from app.web import submissions
 from app.web.chart import ChartPoint, lsf_chart, short_label
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
-from app.web.formatting import day_bounds, local_today
+from app.web.formatting import day_bounds, local_today, long_date
 from app.web.forms import FormErrors, query_text, read_date
 from app.web.templating import render
 
@@ -184,6 +185,7 @@ def inspection_page(
         calibration=calibration_words(inspection.calibration_certificate, inspection.calibration_valid_until),
         raw=raw_readings(inspection),
         certificates=certificates,
+        not_issuable=why_not_issuable(session, inspection),
         issuers={
             certificate.id: issued_by(
                 session,
@@ -248,7 +250,7 @@ def inspections_page(
             "errors": errors.messages,
             "kept": kept,
             "stations": session.scalars(select(Station).order_by(Station.name)).all(),
-            "today": local_today().isoformat(),
+            "today": long_date(local_today()),
         },
         status_code=422 if errors else 200,
     )

@@ -396,6 +396,33 @@ SHOWN_SETTINGS: tuple[tuple[str, str, str, str], ...] = (
         "How long a station's Idempotency-Key replays its first answer.",
     ),
     ("display_timezone", "Display time zone", "text", "Times on the pages, and “today”, are in this zone."),
+    (
+        "mfa",
+        "Second factor at sign-in",
+        "text",
+        "“required”: every officer signs in with a code from an authenticator app as well as the password; "
+        "“optional”: only those who set one up. Unset, it is required in production.",
+    ),
+    (
+        "base_url",
+        "Public address",
+        "text",
+        "Printed on every certificate and in its QR code: where anyone checks a document.",
+    ),
+    ("issuing_authority", "Issuing authority", "text", "The authority named on every page and document."),
+    (
+        "ballast_x_m",
+        "Ballast position",
+        "m",
+        "Where the remedies place front ballast unless asked otherwise, behind the front wheel centre.",
+    ),
+    (
+        "min_rollover_g",
+        "Minimum rollover threshold",
+        "g",
+        "Drawn on the stability map: a case below it tips too easily (an estimate; never the verdict).",
+    ),
+    ("air_density_kg_m3", "Air density", "kg/m³", "For the drag in the critical speed estimate."),
 )
 
 
@@ -415,11 +442,16 @@ def settings_rows(settings: Settings) -> list[SettingRow]:
     rows = []
     for name, label, unit, meaning in SHOWN_SETTINGS:
         value = getattr(settings, name)
+        shown: str
+        if name == "mfa":
+            shown = settings.mfa_mode()  # unset: required in production, optional elsewhere
+        else:
+            shown = "Not set" if value is None else _shown(value, unit)
         rows.append(
             SettingRow(
                 label=label,
                 variable=f"TRIKECERT_{name.upper()}",
-                value=_shown(value, unit),
+                value=shown,
                 default=value == fields[name].default,
                 meaning=meaning,
             )

@@ -17,6 +17,7 @@ from app.vehicles.dynamics_service import DynamicsFigures, record_figures, revis
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.formatting import NOT_RECORDED, or_not_recorded
 from app.web.forms import FormErrors, parse_decimal, text
 from app.web.templating import render
 
@@ -153,7 +154,8 @@ def figures_rows(vehicle: Vehicle) -> dict[str, object]:
     """The vehicle page's summary of the figures in force: (label, value) rows and the revision."""
     revisions = vehicle.dynamics_revisions
     values = current_values(vehicle)
-    rows = [(LABELS[name][0], values[name] or "Not known") for name in DYNAMICS_FIELDS]
-    heights = [values[seat_input(i)] or "Not known" for i in range(len(vehicle.seats))]
-    rows.insert(2, ("Seated heights, driver first (m)", ", ".join(heights)))
+    rows = [(LABELS[name][0], or_not_recorded(values[name])) for name in DYNAMICS_FIELDS]
+    heights = [str(or_not_recorded(values[seat_input(i)])) for i in range(len(vehicle.seats))]
+    shown = NOT_RECORDED if all(h == NOT_RECORDED for h in heights) else ", ".join(heights)
+    rows.insert(2, ("Seated heights, driver first (m)", shown))
     return {"rows": rows, "revision": revisions[-1].revision if revisions else None}

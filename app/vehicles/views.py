@@ -9,6 +9,7 @@ from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts.sessions import set_flash
+from app.certificates.in_force import current_document
 from app.config import get_settings
 from app.errors import Conflict, NotFound, ServiceError
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections
@@ -108,7 +109,8 @@ def register(request: Request, session: SessionDep, login: PostLogin, form: Form
 def vehicle_page(
     request: Request, session: SessionDep, login: CurrentLogin, registration_key: str
 ) -> Response:
-    """The vehicle, its seats, its latest result (Table 4 and chart) and its inspection history."""
+    """The vehicle: its document in force and latest verdict first, then its particulars, seats and
+    figures, then its inspection history."""
     vehicle = find_vehicle(session, registration_key)
     if vehicle is None:
         raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
@@ -128,6 +130,7 @@ def vehicle_page(
             "inspections": inspections,
             "total": total,
             "figures": figures_rows(vehicle),
+            "current": current_document(session, vehicle.id),
             "latest": result_context(session, get_inspection(session, inspections[0].id))
             if inspections
             else None,

@@ -23,6 +23,8 @@ LEFT, RIGHT, TOP, BOTTOM = 62, 86, 20, 60  # the right margin holds the label of
 STEP = 0.05
 LIMIT = float(LSF_LIMIT)
 LIMIT_TEXT = f"{LIMIT:.3f}"
+# Every label is at least this many units: 11.7 px where the 480-unit chart is 330 px wide (a 360 px phone).
+LABEL_SIZE = 17
 TITLE = "Lateral Stability Factor per loading case, against the 2/3 limit"
 
 
@@ -48,7 +50,9 @@ def y_range(values: Sequence[float]) -> tuple[float, float]:
     return math.floor(round(low / STEP, 6)) * STEP, math.ceil(round(high / STEP, 6)) * STEP
 
 
-def _text(x: float, y: float, content: str, *, anchor: str = "middle", size: int = 15, cls: str = "") -> str:
+def _text(
+    x: float, y: float, content: str, *, anchor: str = "middle", size: int = LABEL_SIZE, cls: str = ""
+) -> str:
     cls_attr = f' class="{cls}"' if cls else ""
     return (
         f'<text x="{x:.1f}" y="{y:.1f}" text-anchor="{anchor}" font-size="{size}"{cls_attr}>'
@@ -147,36 +151,34 @@ def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> l
         _opening(chart_id, title, description),
         f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
         'fill="#fbe3df"/>',
-        _text(LEFT + 8, TOP + 21, "unstable", anchor="start", size=17, cls="chart__region"),
-        _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", size=17, cls="chart__region"),
+        _text(LEFT + 8, TOP + 21, "unstable", anchor="start", cls="chart__region"),
+        _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", cls="chart__region"),
     ]
     ticks = round((plot.high - plot.low) / plot.step)
     for i in range(ticks + 1):
         value = plot.low + i * plot.step
         y = plot.y_of(value)
         parts.append(f'<line x1="{LEFT}" x2="{LEFT + plot_w}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
-        parts.append(_text(LEFT - 8, y + 5, f"{value:.2f}", anchor="end", size=16))
+        parts.append(_text(LEFT - 8, y + 6, f"{value:.2f}", anchor="end"))
     parts.append(
         f'<line class="chart__limit" x1="{LEFT}" x2="{LEFT + plot_w}" y1="{limit_y:.1f}" y2="{limit_y:.1f}" '
         'stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
-    parts.append(
-        _text(LEFT + plot_w + 6, limit_y + 5, "limit 2/3", anchor="start", size=16, cls="chart__limit-label")
-    )
+    parts.append(_text(LEFT + plot_w + 6, limit_y + 6, "limit 2/3", anchor="start", cls="chart__limit-label"))
     parts.append(_frame(LEFT, TOP, plot_w, plot_h))
     return parts
 
 
 def case_axis_label(plot: Plot, index: int, label: str) -> str:
     """A loading case's label under the x axis."""
-    return _text(plot.x_of(index), TOP + plot.height + 24, label, size=17)
+    return _text(plot.x_of(index), TOP + plot.height + 24, label)
 
 
 def chart_close(plot: Plot) -> list[str]:
     """The axis titles and the end of the SVG."""
     middle = TOP + plot.height / 2
     return [
-        _text(LEFT + plot.width / 2, HEIGHT - 8, "Loading case (occupants)", size=17),
+        _text(LEFT + plot.width / 2, HEIGHT - 8, "Loading case (occupants)"),
         f'<text x="16" y="{middle:.1f}" text-anchor="middle" font-size="17" '
         f'transform="rotate(-90 16 {middle:.1f})">LSF</text>',
         "</svg>",
@@ -221,7 +223,7 @@ def series(
         if not muted:
             # C points lie below the line and NC points above it: label each away from the line.
             label_y = y + 27 if point.compliant else y - 14
-            parts.append(_text(x, label_y, verdict_mark(point.compliant), size=17, cls="chart__verdict"))
+            parts.append(_text(x, label_y, verdict_mark(point.compliant), cls="chart__verdict"))
         parts.append("</g>")
     return parts
 
@@ -256,7 +258,7 @@ def before_after_chart(
 
 
 MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"
-MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 44, 60  # the top margin holds the legend
+MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 66, 62  # the top margin holds the legend, then "limit 2/3"
 MAP_X_STEP, MAP_Y_STEP = 0.05, 0.1
 
 
@@ -338,6 +340,73 @@ def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> st
     )
 
 
+@dataclass(frozen=True)
+class Box:
+    """A rectangle in the chart's units: left, top, right, bottom."""
+
+    left: float
+    top: float
+    right: float
+    bottom: float
+
+    def overlap(self, other: Box) -> float:
+        """The area both share (0 when apart)."""
+        width = min(self.right, other.right) - max(self.left, other.left)
+        height = min(self.bottom, other.bottom) - max(self.top, other.top)
+        return max(width, 0) * max(height, 0)
+
+    def outside(self, area: Box) -> float:
+        """How much of this box lies outside `area`."""
+        inside = self.overlap(area)
+        return (self.right - self.left) * (self.bottom - self.top) - inside
+
+
+MARKER_REACH = 9  # a marker's half width, its stroke included
+# Where a label may go around its marker: (dx, dy of the baseline, anchor), nearest first.
+LABEL_SPOTS = (
+    (0, 26, "middle"),
+    (0, -13, "middle"),
+    (13, 6, "start"),
+    (-13, 6, "end"),
+    (13, 24, "start"),
+    (-13, 24, "end"),
+    (13, -12, "start"),
+    (-13, -12, "end"),
+    (0, 44, "middle"),
+    (0, -31, "middle"),
+)
+
+
+def text_box(x: float, y: float, content: str, anchor: str, size: float = LABEL_SIZE) -> Box:
+    """Where a bold label's glyphs lie, estimated generously (0.62 em a character)."""
+    width = 0.62 * size * len(content)
+    left = {"start": x, "end": x - width}.get(anchor, x - width / 2)
+    return Box(left, y - 0.78 * size, left + width, y + 0.24 * size)
+
+
+def place_labels(
+    centres: Sequence[tuple[float, float]], labels: Sequence[str], *, area: Box, avoid: Sequence[Box]
+) -> list[tuple[float, float, str]]:
+    """Each marker's label (x, y, anchor): the nearest spot that crosses no line, marker or earlier label
+    and stays in `area`; where none is free, the spot that overlaps least."""
+    taken = [
+        *avoid,
+        *(Box(x - MARKER_REACH, y - MARKER_REACH, x + MARKER_REACH, y + MARKER_REACH) for x, y in centres),
+    ]
+    placed = []
+    for (x, y), label in zip(centres, labels, strict=True):
+
+        def clash(spot: tuple[int, int, str], x: float = x, y: float = y, label: str = label) -> float:
+            box = text_box(x + spot[0], y + spot[1], label, spot[2])
+            return sum(box.overlap(other) for other in taken) + 10 * box.outside(area)
+
+        best = min(LABEL_SPOTS, key=clash)  # min keeps the first of equals: the nearest free spot
+        dx, dy, anchor = best
+        placed.append((x + dx, y + dy, anchor))
+        taken.append(text_box(x + dx, y + dy, label, anchor))
+    return placed
+
+
 def stability_map(
     points: Sequence[MapPoint], *, min_rollover_g: float | None = None, chart_id: str = "stability-map"
 ) -> Markup:
@@ -357,7 +426,7 @@ def stability_map(
         _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g)),
         f'<rect class="chart__unstable" x="{limit_x:.1f}" y="{MAP_TOP}" '
         f'width="{right - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
-        _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", size=16, cls="chart__region"),
+        _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", cls="chart__region"),
     ]
     if geometry.min_rollover is not None:
         min_y = y_of(geometry.min_rollover[0])
@@ -368,16 +437,17 @@ def stability_map(
     for across, label in geometry.x_ticks:
         x = x_of(across)
         parts.append(f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{MAP_TOP}" y2="{bottom}" stroke="#d0d3d4"/>')
-        parts.append(_text(x, bottom + 22, label, size=15))
+        # Low enough to clear the lowest threshold's label at the corner.
+        parts.append(_text(x, bottom + 28, label))
     for up, label in geometry.y_ticks:
         y = y_of(up)
         parts.append(f'<line x1="{MAP_LEFT}" x2="{right}" y1="{y:.1f}" y2="{y:.1f}" stroke="#d0d3d4"/>')
-        parts.append(_text(MAP_LEFT - 8, y + 5, label, anchor="end", size=15))
+        parts.append(_text(MAP_LEFT - 8, y + 6, label, anchor="end"))
     parts.append(
         f'<line class="chart__limit" x1="{limit_x:.1f}" x2="{limit_x:.1f}" y1="{MAP_TOP}" '
         f'y2="{bottom}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
-    parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", size=15, cls="chart__limit-label"))
+    parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", cls="chart__limit-label"))
     if geometry.min_rollover is not None:
         min_y = y_of(geometry.min_rollover[0])
         parts.append(
@@ -390,29 +460,36 @@ def stability_map(
                 min_y - 6,
                 geometry.min_rollover[1],
                 anchor="start",
-                size=15,
                 cls="chart__limit-label",
             )
         )
     parts.append(_frame(MAP_LEFT, MAP_TOP, plot_w, plot_h))
-    for across, up, point in geometry.points:
-        x, y = x_of(across), y_of(up)
+    centres = [(x_of(across), y_of(up)) for across, up, _point in geometry.points]
+    lines = [Box(limit_x - 2, MAP_TOP, limit_x + 2, bottom)]
+    if geometry.min_rollover is not None:
+        min_y = y_of(geometry.min_rollover[0])
+        lines.append(Box(MAP_LEFT, min_y - 2, right, min_y + 2))
+    places = place_labels(
+        centres,
+        [point.short_label for _across, _up, point in geometry.points],
+        area=Box(MAP_LEFT, MAP_TOP, right, bottom),
+        avoid=lines,
+    )
+    for (x, y), (_across, _up, point), (label_x, label_y, anchor) in zip(
+        centres, geometry.points, places, strict=True
+    ):
         parts.append(f'<g class="chart__point" data-verdict="{verdict_mark(point.compliant)}">')
         parts.append(marker(x, y, point.compliant))
-        # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
-        label_y = y + 25 if bottom - y > 30 else y - 12
-        parts.append(_text(x, label_y, point.short_label, size=14, cls="chart__verdict"))
+        parts.append(_text(label_x, label_y, point.short_label, anchor=anchor, cls="chart__verdict"))
         parts.append("</g>")
     # The legend says what the shapes mean, so neither colour nor shape stands alone.
     parts.append(marker(MAP_LEFT + 8, 14, True))
-    parts.append(_text(MAP_LEFT + 22, 19, "C compliant", anchor="start", size=15))
-    parts.append(marker(MAP_LEFT + 140, 14, False))
-    parts.append(_text(MAP_LEFT + 154, 19, "NC not compliant", anchor="start", size=15))
+    parts.append(_text(MAP_LEFT + 22, 20, "C compliant", anchor="start"))
+    parts.append(marker(MAP_LEFT + 150, 14, False))
+    parts.append(_text(MAP_LEFT + 164, 20, "NC not compliant", anchor="start"))
+    parts.append(_text(MAP_LEFT + plot_w / 2, HEIGHT - 6, "LSF (share of weight on the rear wheels)"))
     parts.append(
-        _text(MAP_LEFT + plot_w / 2, HEIGHT - 8, "LSF (share of weight on the rear wheels)", size=16)
-    )
-    parts.append(
-        f'<text x="16" y="{MAP_TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="16" '
+        f'<text x="16" y="{MAP_TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="{LABEL_SIZE}" '
         f'transform="rotate(-90 16 {MAP_TOP + plot_h / 2:.1f})">Rollover threshold (g)</text>'
     )
     parts.append("</svg>")

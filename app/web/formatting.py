@@ -49,6 +49,19 @@ def signed(value: Decimal | Fraction | float) -> str:
     return text if text.startswith("-") else f"+{text}"
 
 
+NOT_RECORDED = "Not recorded"
+
+
+def or_not_recorded(value: object) -> object:
+    """A recorded value as it is, or 'Not recorded' for one left empty: every page words a gap so."""
+    return NOT_RECORDED if value is None or value == "" else value
+
+
+def unbroken(text: str) -> str:
+    """A message for a page, each percentage kept on one line with its figure: '10.5\u00a0%'."""
+    return text.replace(" %", "\u00a0%")
+
+
 def limit_text() -> str:
     """The standard as the study prints it: 2/3 (0.667)."""
     return f"{LSF_LIMIT.numerator}/{LSF_LIMIT.denominator} ({ratio(LSF_LIMIT)})"
@@ -74,13 +87,14 @@ def to_local(moment: datetime) -> datetime:
 
 
 def local_time(moment: datetime) -> str:
-    """A time in the display zone, the zone named: 23 Nov 2026, 14:05 WAT."""
+    """A time in the display zone, its date as `long_date` words it, the zone named:
+    23 November 2026, 14:05 WAT."""
     local = to_local(moment)
-    return f"{local.day} {local:%b %Y, %H:%M} {local.tzname() or 'UTC'}"
+    return f"{long_date(local.date())}, {local:%H:%M} {local.tzname() or 'UTC'}"
 
 
 def long_date(moment: datetime | date) -> str:
-    """A date as printed on documents (validity, revocation): 1 December 2027, in the display zone."""
+    """Every date on the pages, the papers and the command line: 1 December 2027, in the display zone."""
     local = to_local(moment) if isinstance(moment, datetime) else moment
     return f"{local.day} {local:%B %Y}"
 

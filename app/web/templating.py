@@ -34,12 +34,15 @@ _env.filters.update(
     local_time=formatting.local_time,
     load_kg=formatting.load_kg,
     long_date=formatting.long_date,
+    unbroken=formatting.unbroken,
+    or_not_recorded=formatting.or_not_recorded,
 )
 _env.globals.update(
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
     case_label=case_label,
     verdict_mark=verdict_mark,
+    not_recorded=formatting.NOT_RECORDED,
 )
 templates = Jinja2Templates(env=_env)
 

@@ -118,12 +118,12 @@ def test_a_station_weighing_issued_by_an_officer_names_both_and_prints_the_calib
     register(station)
     inspection_id = weigh(station)
     inspection_page = officer_web.get(f"/inspections/{inspection_id}").text
-    assert 'id="recorded-by">Agbara weighbridge (weighbridge station)<' in inspection_page
+    assert 'id="recorded-by">Agbara weighbridge, weighbridge station<' in inspection_page
     assert 'id="calibration">SON/CAL/2026/0415, valid until 31 March 2099<' in inspection_page
 
     location = issue_from_page(officer_web, inspection_id)
     pdf = text_of(officer_web.get(f"{location}/pdf").content)
-    assert "Recorded by Agbara weighbridge (weighbridge station)" in pdf
+    assert "Recorded by Agbara weighbridge, weighbridge station" in pdf
     assert f"Issued by {SHOWN}" in pdf
     assert "Scale calibration SON/CAL/2026/0415, valid until 31 March 2099" in pdf
     assert "none (station submission)" not in pdf
@@ -151,8 +151,8 @@ def test_a_station_that_certifies_its_own_weighing_is_named_as_the_issuer(
     register(station)
     number = certify(station, weigh(station))["number"]
     pdf = text_of(station.get(f"/api/v1/certificates/{number}/pdf").content)
-    assert "Recorded by Ikeja weighbridge (weighbridge station)" in pdf
-    assert "Issued by Ikeja weighbridge (weighbridge station)" in pdf
+    assert "Recorded by Ikeja weighbridge, weighbridge station" in pdf
+    assert "Issued by Ikeja weighbridge, weighbridge station" in pdf
     assert printed in pdf
 
 
@@ -281,8 +281,8 @@ def test_an_admin_adds_an_officer_with_a_name_and_badge_and_then_changes_them(
     )
     assert added.status_code == 303
     users = admin_pages.get("/admin/users").text
-    assert "<td>Ngozi Eze</td>" in users
-    assert "<td>FRSC 12</td>" in users
+    assert '<td data-label="Name">Ngozi Eze</td>' in users
+    assert '<td data-label="Badge">FRSC 12</td>' in users
     user = session.scalar(select(User).where(User.email == "ngozi@example.org"))
     assert user is not None
     edit = f"/admin/users/{user.id}/edit"

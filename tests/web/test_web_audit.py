@@ -383,8 +383,8 @@ def test_the_midnight_between_two_days_is_the_display_zones(
     shown = {e.action for e in history if e.id in shown_ids(page.text)}
     # 22 Nov 23:30 UTC is already the 23rd in Lagos; 23 Nov 23:00 UTC is the 24th there.
     assert shown == {"certificate.issued", "certificate.revoked"}
-    assert "23 Nov 2026, 00:30 WAT" in page.text
-    assert "23 Nov 2026, 23:59 WAT" in page.text
+    assert "23 November 2026, 00:30 WAT" in page.text
+    assert "23 November 2026, 23:59 WAT" in page.text
 
 
 def test_the_form_shows_the_filters_chosen_and_the_actions_on_record(

@@ -108,7 +108,8 @@ def test_the_cores_refusal_of_a_wheel_sum_names_both_figures_beside_the_overall_
     assert response.status_code == 422
     assert (
         '<a href="#overall_kg_1">The three wheel readings add up to 358 kg but the overall weight is 400 kg; '
-        "the difference (10.5 %) is more than the allowed 1 %. Weigh the vehicle again.</a>" in response.text
+        "the difference (10.5\u00a0%) is more than the allowed 1\u00a0%. Weigh the vehicle again.</a>"
+        in response.text
     )
     assert 'id="overall_kg_1-error"' in response.text
     assert count(session) == 0

@@ -1,9 +1,10 @@
 """Two-factor sign-in tried in Debian's Chromium as a new administrator would, with TRIKECERT_MFA=required:
 an account made with `trikecert create-user`, enrolment with a code computed by pyotp from the secret
-shown on the page, sign-out, a code at sign-in, a reused code refused, a recovery code that then stops
-working, a revocation that asks for the password and a code again, and all of it on the audit page.
-axe-core finds nothing on the enrolment, code, confirmation and audit pages; with
-TRIKECERT_SCREENSHOTS=1 they are saved at 1280 and 360 px in docs/screenshots/."""
+shown on the page (its QR code read by zbarimg from screenshots at 1280 and 360 px), sign-out, a code at
+sign-in, a reused code refused, a recovery code that then stops working, a revocation that asks for the
+password and a code again, and all of it on the audit page. axe-core finds nothing on the enrolment,
+code, confirmation and audit pages; with TRIKECERT_SCREENSHOTS=1 they are saved at 1280 and 360 px in
+docs/screenshots/."""
 
 from __future__ import annotations
 
@@ -88,6 +89,24 @@ def look(page: Page, name: str, axe: Path) -> None:
         page.set_viewport_size({"width": 1280, "height": 900})
 
 
+def scanned_qr(page: Page, width: int, folder: Path) -> str:
+    """What a phone's scanner reads from the page's screenshot at this width (zbarimg), after checking
+    that the whole code is inside the page."""
+    page.set_viewport_size({"width": width, "height": 900})
+    box = page.locator(".enrol-qr svg").bounding_box()
+    assert box is not None
+    assert box["x"] >= 0
+    assert box["x"] + box["width"] <= width
+    assert box["width"] >= 150  # big enough to scan from a screen
+    shot = folder / f"enrol-{width}.png"
+    page.screenshot(path=str(shot), full_page=True)
+    done = subprocess.run(
+        ["zbarimg", "--quiet", "--raw", str(shot)], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, f"zbarimg found no QR code at {width} px: {done.stderr}"
+    return done.stdout.strip()
+
+
 def sign_in(page: Page) -> None:
     page.goto("/login")
     page.get_by_label("Email address").fill(EMAIL)
@@ -106,7 +125,7 @@ def sign_out(page: Page) -> None:
 
 
 def test_a_new_admin_enrols_signs_in_with_codes_and_confirms_a_revocation(
-    audit_page: Page, axe_script: Path, session: Session, required: None
+    audit_page: Page, axe_script: Path, session: Session, required: None, tmp_path: Path
 ) -> None:
     page = audit_page
     printed = create_admin()
@@ -123,8 +142,13 @@ def test_a_new_admin_enrols_signs_in_with_codes_and_confirms_a_revocation(
     expect(page).to_have_url(re.compile(r"/account/two-factor"))
     expect(page.get_by_role("heading", level=1)).to_have_text("Set up your second factor")
     expect(page.locator(".enrol-qr svg")).to_be_visible()
+    secret = page.locator("#secret").inner_text()
+    for width in (1280, 360):
+        scanned = pyotp.parse_uri(scanned_qr(page, width, tmp_path))
+        assert (scanned.secret, scanned.name) == (secret, EMAIL), width
+    page.set_viewport_size({"width": 1280, "height": 900})
     look(page, "two-factor-enrol", axe_script)
-    phone = Authenticator(page.locator("#secret").inner_text())
+    phone = Authenticator(secret)
     page.get_by_label("Code from the app").fill(phone.code())
     page.get_by_role("button", name="Confirm and turn on").click()
     expect(page.get_by_role("heading", level=1)).to_have_text("Your recovery codes")

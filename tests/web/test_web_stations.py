@@ -372,6 +372,15 @@ def test_the_settings_page_lists_the_settings_in_force_and_no_secret(
     assert "75 kg</td>" in text
     assert "72 kg" not in text
     assert "0.01 (1.0 %) (default)" in text
+    for variable, shown in (
+        ("TRIKECERT_MFA", "optional (default)"),
+        ("TRIKECERT_BASE_URL", f"{get_settings().base_url} (default)"),
+        ("TRIKECERT_BALLAST_X_M", "0.3 m (default)"),
+        ("TRIKECERT_MIN_ROLLOVER_G", "Not set (default)"),
+        ("TRIKECERT_AIR_DENSITY_KG_M3", "1.2 kg/m³ (default)"),
+    ):
+        assert f"<code>{variable.replace('_', '_<wbr>')}</code>" in text
+        assert f"{shown}</td>" in text, variable
     assert get_settings().display_timezone in text
     assert SIGNING_SEED not in text
     assert "TRIKECERT_SIGNING_KEY" not in text

@@ -19,7 +19,7 @@ from app.config import get_settings
 from app.db import utcnow
 from app.inspections.models import Inspection
 from app.vehicles.models import Vehicle
-from app.web.formatting import local_today
+from app.web.formatting import local_today, long_date
 from web.webtools import STUDY_READINGS, post_form
 
 FORM_URL = "/vehicles/BDG252QH/inspections/new"
@@ -67,7 +67,7 @@ def test_the_page_counts_the_period_per_station_and_per_day(
     today = local_today()
     per_day = page.text[page.text.index('id="per-day"') :]
     assert per_day.count("<tr>") == 1 + 30, "a heading row and every day of the period, empty days too"
-    assert re.search(rf"{today:%a %d %b %Y}</th>\s*<td[^>]*>2</td>", per_day), "newest day first"
+    assert re.search(rf"{long_date(today)}</th>\s*<td[^>]*>2</td>", per_day), "newest day first"
 
     wider = web.get(f"/statistics?from={(today - timedelta(days=45)).isoformat()}")
     assert totals(wider.text)[0] == ("3", "inspections")

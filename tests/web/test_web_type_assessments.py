@@ -103,8 +103,8 @@ def test_statistics_count_each_model_and_link_its_latest_type_assessment(
     weigh_study_fleet(session, model="Maxima", suffix=" M")
     before = cells(web.get("/statistics").text, "per-model")
     assert [row[:4] for row in before] == [
-        ["Bajaj Maxima", "3", "0", "0 %"],
-        ["Bajaj RE", "3", "0", "0 %"],
+        ["Bajaj Maxima", "3", "0", "0\u00a0%"],
+        ["Bajaj RE", "3", "0", "0\u00a0%"],
     ]
     assert "None yet: assess the model" in before[1][4]
     done = post_form(web, PICKED, "/type-assessments", {})
