@@ -8,6 +8,7 @@ TRIKECERT_SCREENSHOTS=1 the run saves them as docs/screenshots/verify-<case>-<wi
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -19,7 +20,7 @@ from study_data import STUDY_READINGS, STUDY_VEHICLE
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.config import get_settings
-from web.webtools import AXE_PATH, REPO, axe_violations
+from web.webtools import REPO, axe_violations
 
 pytestmark = pytest.mark.browser
 
@@ -190,12 +191,11 @@ def shoot(page: Page, name: str, width: int) -> None:
 
 
 def test_the_verify_pages_have_no_axe_violations(
-    browser: Browser, browser_context_args: dict[str, Any], documents: dict[str, dict[str, Any]]
+    browser: Browser,
+    browser_context_args: dict[str, Any],
+    documents: dict[str, dict[str, Any]],
+    axe_script: Path,
 ) -> None:
-    if not AXE_PATH.is_file():
-        if os.environ.get("CI"):
-            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
-        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
     context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
     page = context.new_page()
     found: dict[str, list[dict[str, Any]]] = {}
@@ -204,7 +204,7 @@ def test_the_verify_pages_have_no_axe_violations(
     urls["tampered"] = f"/verify/{valid['number']}?p={refusal['qr_payload']}"
     for name, url in urls.items():
         page.goto(url)
-        if violations := axe_violations(page, AXE_PATH):
+        if violations := axe_violations(page, axe_script):
             found[name] = violations
     context.close()
     assert found == {}, found
