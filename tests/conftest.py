@@ -30,6 +30,7 @@ from app.grants import grant_app_role
 from app.inspections.models import Inspection
 from app.main import create_app
 from app.migrate import upgrade
+from app.ops.requests import flush_logs
 from app.stations.service import create_station
 
 TEST_DATABASE_ENV = "TRIKECERT_TEST_DATABASE_URL"
@@ -89,6 +90,34 @@ def _server_left_as_found() -> Iterator[None]:
     yield
     left = sorted(f for f in _server_objects(server_url) - before if not _made_by_another_run(f))
     assert left == [], f"the run left these on the PostgreSQL server: {', '.join(left)}"
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_setup(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the phase are written while its output is still captured."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_call(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the test are written while its output is still captured, never
+    onto the terminal between tests (its thread writes them a moment after each request)."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_teardown(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the phase are written while its output is still captured."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
 
 
 @pytest.fixture(scope="session")

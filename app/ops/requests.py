@@ -99,6 +99,13 @@ def configure_logging(level: int = logging.INFO) -> None:
     root.propagate = False
 
 
+def flush_logs() -> None:
+    """Wait until every line queued so far is written (the log thread is stopped and started again)."""
+    if _writer is not None:
+        _writer.stop()
+        _writer.start()
+
+
 # New request ids: 128 random bits from a generator of this process's own, seeded from the system's
 # randomness and again in each forked worker. An id only tells requests apart in the logs (it is no
 # secret), and uuid4's system call per request cost a probe a tenth of its time.
