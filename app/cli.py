@@ -218,7 +218,7 @@ def cmd_create_user(args: argparse.Namespace) -> int:
 
 def cmd_demo(_args: argparse.Namespace) -> int:
     """Load the study's vehicle and inspection."""
-    from app.demo import STUDY_REGISTRATION, load_demo
+    from app.demo import DEMO_STATION, STUDY_REGISTRATION, load_demo
     from app.migrate import upgrade
     from app.web.formatting import load_kg
 
@@ -227,6 +227,10 @@ def cmd_demo(_args: argparse.Namespace) -> int:
         result = load_demo(session, get_settings())
     if not result.created or result.inspection is None:
         print(f"the demo vehicle {STUDY_REGISTRATION} is already loaded; nothing changed")
+        print(
+            "the demo station's key was shown once, when it was made; for a new one "
+            f"(the old one stops working): trikecert rotate-station-key '{DEMO_STATION}'"
+        )
         return 0
     inspection = result.inspection
     print(f"loaded the study's vehicle {STUDY_REGISTRATION} and inspection {inspection.id}:")

@@ -15,6 +15,7 @@ from app.stations.service import create_station
 from app.vehicles.service import find_vehicle, register_vehicle
 
 STUDY_REGISTRATION = "BDG 252 QH"
+DEMO_STATION = "Demo weighbridge (Agbara)"
 DRIVER_X_M = Decimal("0.9303")
 PASSENGER_X_M = Decimal("1.6303")
 STUDY_SEATS = [("driver", DRIVER_X_M)] + [("passenger", PASSENGER_X_M)] * 3
@@ -50,7 +51,7 @@ def load_demo(session: Session, settings: Settings) -> DemoResult:
         wheelbase_m=Decimal("2.000"),
         seats=STUDY_SEATS,
     )
-    station, key = create_station(session, name="Demo weighbridge (Agbara)")
+    station, key = create_station(session, name=DEMO_STATION)
     inspection = record_inspection(
         session,
         request=InspectionRequest(registration_number=STUDY_REGISTRATION, readings=STUDY_READINGS),

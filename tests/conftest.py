@@ -9,6 +9,7 @@ Clean-up and `owner_engine` use the owner."""
 from __future__ import annotations
 
 import os
+import re
 import secrets
 import uuid
 from collections.abc import Callable, Iterator
@@ -19,6 +20,7 @@ import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, create_engine, text, update
 from sqlalchemy.engine import make_url
+from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session
 
 from app import config, db
@@ -28,14 +30,105 @@ from app.grants import grant_app_role
 from app.inspections.models import Inspection
 from app.main import create_app
 from app.migrate import upgrade
+from app.ops.requests import flush_logs
 from app.stations.service import create_station
 
 TEST_DATABASE_ENV = "TRIKECERT_TEST_DATABASE_URL"
+# This run's mark in the names of what it makes on a PostgreSQL server (its database and roles).
+RUN = uuid.uuid4().hex[:12]
+# What runs beside this one make on a shared server: `trikecert_<kind>_<12 hex digits>`.
+_PER_RUN_NAME = re.compile(r"trikecert_[a-z_]+_([0-9a-f]{12})")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """A PostgreSQL server URL naming a database the server lacks (a stock server has only
+    `postgres`) connects to `postgres` instead: the URL only says where to make the run's database."""
+    server_url = os.environ.get(TEST_DATABASE_ENV, "")
+    if not server_url.startswith("postgresql"):
+        return
+    probe = create_engine(server_url)
+    try:
+        with probe.connect():
+            pass
+    except OperationalError as error:
+        if "does not exist" not in str(error.orig):
+            raise
+        url = make_url(server_url).set(database="postgres")
+        os.environ[TEST_DATABASE_ENV] = url.render_as_string(hide_password=False)
+    finally:
+        probe.dispose()
+
+
+def _server_objects(server_url: str) -> set[str]:
+    """Every role and database on the PostgreSQL server, as 'role NAME' and 'database NAME'."""
+    engine = create_engine(server_url)
+    try:
+        with engine.connect() as connection:
+            roles = connection.scalars(text("SELECT rolname FROM pg_roles"))
+            found = {f"role {name}" for name in roles}
+            databases = connection.scalars(text("SELECT datname FROM pg_database"))
+            found |= {f"database {name}" for name in databases}
+    finally:
+        engine.dispose()
+    return found
+
+
+def _made_by_another_run(found: str) -> bool:
+    named = _PER_RUN_NAME.fullmatch(found.split(" ", 1)[1])
+    return named is not None and named[1] != RUN
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _server_left_as_found() -> Iterator[None]:
+    """On PostgreSQL, the run leaves the server's roles and databases as it found them (checked after
+    every other fixture is torn down; what runs beside this one make meanwhile is theirs)."""
+    server_url = os.environ.get(TEST_DATABASE_ENV, "")
+    if not server_url.startswith("postgresql"):
+        yield
+        return
+    before = _server_objects(server_url)
+    yield
+    left = sorted(f for f in _server_objects(server_url) - before if not _made_by_another_run(f))
+    assert left == [], f"the run left these on the PostgreSQL server: {', '.join(left)}"
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_setup(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the phase are written while its output is still captured."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_call(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the test are written while its output is still captured, never
+    onto the terminal between tests (its thread writes them a moment after each request)."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_runtest_teardown(item: pytest.Item) -> Iterator[None]:
+    """The access log's lines of the phase are written while its output is still captured."""
+    try:
+        return (yield)
+    finally:
+        flush_logs()
+
+
+@pytest.fixture(scope="session")
+def run_token() -> str:
+    """This run's mark: a test that makes a role or database on the server puts it in its name."""
+    return RUN
 
 
 def _fresh_postgres(server_url: str) -> tuple[str, str]:
     """Create a new, empty database on the server; return its URL and name."""
-    name = f"trikecert_test_{uuid.uuid4().hex[:12]}"
+    name = f"trikecert_test_{RUN}"
     admin = create_engine(server_url, isolation_level="AUTOCOMMIT")
     with admin.connect() as connection:
         connection.execute(text(f'CREATE DATABASE "{name}"'))

@@ -9,10 +9,11 @@ import os
 import queue
 import random
 import re
+import sys
 import time
 from functools import lru_cache
 from logging.handlers import QueueHandler, QueueListener
-from typing import Any
+from typing import Any, TextIO
 
 from prometheus_client import Counter, Histogram
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
@@ -61,6 +62,19 @@ class _HandOver(QueueHandler):
         return record
 
 
+class _StandardError(logging.StreamHandler[TextIO]):
+    """Writes each line to the standard error of the moment it is written.
+
+    The log thread outlives whoever set it up: a stream held from then may since have been replaced
+    and closed (pytest's capture of one test, say), and writing to it fails.
+    """
+
+    def emit(self, record: logging.LogRecord) -> None:
+        """Write the record to the current standard error."""
+        self.stream = sys.stderr
+        super().emit(record)
+
+
 _writer: QueueListener | None = None
 
 
@@ -71,7 +85,7 @@ def configure_logging(level: int = logging.INFO) -> None:
     writes what is left when the process exits).
     """
     global _writer
-    handler = logging.StreamHandler()  # the standard error of now (tests may have replaced it)
+    handler = _StandardError()
     handler.setFormatter(JsonFormatter())
     if _writer is None:
         _writer = QueueListener(queue.SimpleQueue(), handler)
@@ -83,6 +97,13 @@ def configure_logging(level: int = logging.INFO) -> None:
     root.handlers[:] = [_HandOver(_writer.queue)]
     root.setLevel(level)
     root.propagate = False
+
+
+def flush_logs() -> None:
+    """Wait until every line queued so far is written (the log thread is stopped and started again)."""
+    if _writer is not None:
+        _writer.stop()
+        _writer.start()
 
 
 # New request ids: 128 random bits from a generator of this process's own, seeded from the system's

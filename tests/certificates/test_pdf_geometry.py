@@ -19,6 +19,7 @@ from typing import Any
 import pytest
 from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh
 from fastapi.testclient import TestClient
+from needed_tools import tool_missing
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
@@ -82,7 +83,8 @@ class Word:
 def pdftotext(*args: str, pdf: bytes) -> str:
     """Run poppler's pdftotext on the PDF bytes and return what it prints."""
     binary = shutil.which("pdftotext")
-    assert binary, "poppler-utils (pdftotext) must be installed for the PDF geometry tests"
+    if binary is None:
+        tool_missing("pdftotext", "apt-get install poppler-utils")
     done = subprocess.run([binary, *args, "-", "-"], input=pdf, capture_output=True, check=True)
     return done.stdout.decode("utf-8")
 

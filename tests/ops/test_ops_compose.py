@@ -53,41 +53,59 @@ def free_port() -> int:
 
 
 @pytest.fixture
-def compose_env() -> Iterator[dict[str, str]]:
-    """The variables compose would read from .env, and a fresh database standing in for `db`."""
+def compose_env(run_token: str) -> Iterator[dict[str, str]]:
+    """The variables compose would read from .env, and a fresh database standing in for `db`, owned
+    by a role standing in for `trikecert` (the app's role, made by the migration, stands in for
+    `trikecert_app`): the run's own names, all dropped afterwards, so the server is left as found."""
     password = secrets.token_urlsafe(16)
-    name = f"trikecert_compose_{secrets.token_hex(6)}"
+    name, owner, app = (
+        f"trikecert_{kind}_{run_token}" for kind in ("compose", "compose_owner", "compose_app")
+    )
     admin = create_engine(SERVER_URL, isolation_level="AUTOCOMMIT")
-    with admin.connect() as connection:
-        if connection.scalar(text("SELECT 1 FROM pg_roles WHERE rolname = 'trikecert'")) is None:
-            connection.execute(text("CREATE ROLE trikecert LOGIN"))
-        # The postgres image's POSTGRES_USER is a superuser: it may create the app's role.
-        connection.execute(text("ALTER ROLE trikecert SUPERUSER"))
-        connection.execute(text(f'CREATE DATABASE "{name}" OWNER trikecert'))
     server = make_url(SERVER_URL)
-    yield {
-        "POSTGRES_PASSWORD": password,
-        "TRIKECERT_APP_DB_PASSWORD": secrets.token_urlsafe(16),
-        "TRIKECERT_BASE_URL": "https://trikecert.example.gov",
-        "TRIKECERT_WORKERS": "2",
-        "_DB": name,
-        "_HOST": server.host or "127.0.0.1",
-        "_PORT": str(server.port or 5432),
-    }
-    with admin.connect() as connection:
-        connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
-    admin.dispose()
+    try:
+        with admin.connect() as connection:
+            # The postgres image's POSTGRES_USER is a superuser: it may create the app's role.
+            connection.execute(text(f'CREATE ROLE "{owner}" LOGIN SUPERUSER'))
+            connection.execute(text(f'CREATE DATABASE "{name}" OWNER "{owner}"'))
+        yield {
+            "POSTGRES_PASSWORD": password,
+            "TRIKECERT_APP_DB_PASSWORD": secrets.token_urlsafe(16),
+            "TRIKECERT_BASE_URL": "https://trikecert.example.gov",
+            "TRIKECERT_WORKERS": "2",
+            "_DB": name,
+            "_HOST": server.host or "127.0.0.1",
+            "_PORT": str(server.port or 5432),
+            "_ROLES": f"trikecert={owner},trikecert_app={app}",
+        }
+    finally:
+        with admin.connect() as connection:
+            connection.execute(text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+            connection.execute(text(f'DROP ROLE IF EXISTS "{app}"'))  # its grants went with the database
+            connection.execute(text(f'DROP ROLE IF EXISTS "{owner}"'))
+        admin.dispose()
+
+
+def roles_of(env: dict[str, str]) -> dict[str, str]:
+    """The compose file's role names -> the roles standing in for them here."""
+    return dict(pair.split("=", 1) for pair in env["_ROLES"].split(","))
 
 
 def environment_of(name: str, env: dict[str, str]) -> dict[str, str]:
-    """The service's environment as compose would set it, with `db:5432/trikecert` pointed here."""
+    """The service's environment as compose would set it, with `db:5432/trikecert` and its roles
+    pointed here."""
+    roles = roles_of(env)
     result = dict(os.environ)
     result.pop("TRIKECERT_DATABASE_URL", None)
     for key, value in service(name)["environment"].items():
         result[key] = interpolate(str(value), env)
-    result["TRIKECERT_DATABASE_URL"] = result["TRIKECERT_DATABASE_URL"].replace(
-        "@db:5432/trikecert", f"@{env['_HOST']}:{env['_PORT']}/{env['_DB']}"
-    )
+    url = make_url(result["TRIKECERT_DATABASE_URL"])
+    assert (url.host, url.port, url.database) == ("db", 5432, "trikecert"), url
+    result["TRIKECERT_DATABASE_URL"] = url.set(
+        username=roles[url.username or ""], host=env["_HOST"], port=int(env["_PORT"]), database=env["_DB"]
+    ).render_as_string(hide_password=False)
+    if "TRIKECERT_APP_DB_ROLE" in result:
+        result["TRIKECERT_APP_DB_ROLE"] = roles[result["TRIKECERT_APP_DB_ROLE"]]
     result["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{result['PATH']}"
     return result
 
@@ -138,7 +156,7 @@ def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, s
         check=False,
     )
     assert migrate.returncode == 0, migrate.stderr
-    assert "app role trikecert_app" in migrate.stdout
+    assert f"app role {roles_of(compose_env)['trikecert_app']}" in migrate.stdout
     assert_the_app_role_cannot_rewrite_records(compose_env)
 
     port = free_port()

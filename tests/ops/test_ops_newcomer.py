@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+import io
+import logging
 import subprocess
 import sys
+import time
 from pathlib import Path
 
+import pytest
+
 from app import __version__
+from app.ops.requests import configure_logging
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -33,3 +39,20 @@ def test_files_the_service_leaves_beside_its_sqlite_database_are_ignored_by_git(
         ["git", "check-ignore", "--no-index", *names], capture_output=True, text=True, check=False, cwd=ROOT
     )
     assert done.stdout.split() == names
+
+
+def test_the_log_thread_writes_to_the_standard_error_of_the_moment_not_a_closed_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    first = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", first)
+    configure_logging()  # as create_app does, while a test's capture is standard error
+    first.close()  # that test is over: its capture is closed
+    now = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", now)
+    logging.getLogger("trikecert.access").info("written after the first stream closed")
+    deadline = time.monotonic() + 10
+    while "written after" not in now.getvalue() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert "written after the first stream closed" in now.getvalue()
+    assert "Logging error" not in now.getvalue()

@@ -16,6 +16,7 @@ from typing import Any
 import pytest
 import uvicorn
 from fastapi.testclient import TestClient
+from needed_tools import tool_missing
 from playwright.sync_api import Browser, Page
 from sqlalchemy.orm import Session
 
@@ -103,9 +104,17 @@ def live_server(database_url: str) -> Iterator[str]:
 
 
 @pytest.fixture(scope="session")
-def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[str, Any]:
+def chromium() -> str:
+    """Debian's Chromium; missing, every browser test is skipped saying so (a failure on CI)."""
+    if not os.access(CHROMIUM, os.X_OK):
+        tool_missing(f"Chromium ({CHROMIUM})", "apt-get install chromium, or set TRIKECERT_CHROMIUM")
+    return CHROMIUM
+
+
+@pytest.fixture(scope="session")
+def browser_type_launch_args(browser_type_launch_args: dict[str, Any], chromium: str) -> dict[str, Any]:
     """Launch Debian's Chromium, never a downloaded browser."""
-    return {**browser_type_launch_args, "executable_path": CHROMIUM, "args": CHROMIUM_ARGS, "headless": True}
+    return {**browser_type_launch_args, "executable_path": chromium, "args": CHROMIUM_ARGS, "headless": True}
 
 
 @pytest.fixture(scope="session")
@@ -116,11 +125,10 @@ def browser_context_args(browser_context_args: dict[str, Any], live_server: str)
 
 @pytest.fixture
 def axe_script() -> Path:
-    """axe.min.js; missing is a failure on CI and a skip on a machine without `npm ci`."""
+    """axe.min.js, the only way a test reaches axe-core: missing, the test is skipped saying so (a
+    failure on CI)."""
     if not AXE_PATH.is_file():
-        if os.environ.get("CI"):
-            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
-        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
+        tool_missing(f"axe-core ({AXE_PATH})", "run `npm ci` at the top of the repository")
     return AXE_PATH
 
 

@@ -4,10 +4,8 @@ sign out and go back, CSRF refusal, a 360-px run, and axe-core on the main pages
 
 from __future__ import annotations
 
-import os
 import re
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -23,7 +21,6 @@ from web.webtools import OFFICER_EMAIL, PASSWORD, REPO
 pytestmark = pytest.mark.browser
 
 SCREENSHOTS = REPO / "docs" / "screenshots"
-AXE_PATH = Path(os.environ.get("TRIKECERT_AXE_PATH", REPO / "node_modules" / "axe-core" / "axe.min.js"))
 
 
 def sign_in(page: Page, email: str = OFFICER_EMAIL, password: str = PASSWORD) -> None:

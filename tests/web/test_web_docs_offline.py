@@ -18,7 +18,7 @@ from urllib.parse import urlsplit
 import pytest
 from playwright.sync_api import Browser, BrowserType, ConsoleMessage, Page, Route, expect
 
-from web.webtools import CHROMIUM, CHROMIUM_ARGS
+from web.webtools import CHROMIUM_ARGS
 
 pytestmark = pytest.mark.browser
 
@@ -48,11 +48,11 @@ class Offline:
 
 
 @pytest.fixture
-def offline(browser_type: BrowserType, live_server: str) -> Iterator[Offline]:
+def offline(browser_type: BrowserType, chromium: str, live_server: str) -> Iterator[Offline]:
     """A page whose requests to any host but the service are recorded and aborted."""
     port = urlsplit(live_server).port
     browser: Browser = browser_type.launch(
-        executable_path=CHROMIUM,
+        executable_path=chromium,
         args=[*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {HOST} 127.0.0.1"],
         headless=True,
     )

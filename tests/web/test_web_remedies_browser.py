@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -16,7 +17,7 @@ from app.config import get_settings
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
-from web.webtools import AXE_PATH, OFFICER_EMAIL, PASSWORD, REPO, axe_violations
+from web.webtools import OFFICER_EMAIL, PASSWORD, REPO, axe_violations
 
 pytestmark = pytest.mark.browser
 
@@ -29,6 +30,7 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
     session: Session,
     study_vehicle: Vehicle,
     officer: User,
+    axe_script: Path,
 ) -> None:
     readings = WheelReadings((Decimal(108),), (Decimal(115),), (Decimal(135),), (Decimal(359),))
     inspection = record_inspection(
@@ -57,7 +59,7 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
     expect(chart).to_be_visible()
     expect(chart.locator('[data-series="after"][data-verdict="C"]')).to_have_count(5)
     expect(chart.locator('[data-series="before"][data-verdict="NC"]')).to_have_count(4)
-    assert axe_violations(page, AXE_PATH) == []
+    assert axe_violations(page, axe_script) == []
 
     for width in (1280, 360):
         page.set_viewport_size({"width": width, "height": 900})
@@ -79,5 +81,5 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
     expect(page.locator(".error-summary")).to_contain_text("Enter the ballast position in metres")
     expect(page.locator("#ballast_x_m-error")).to_be_visible()
     expect(page.get_by_label("Ballast position (m)")).to_have_value("far back")
-    assert axe_violations(page, AXE_PATH) == []
+    assert axe_violations(page, axe_script) == []
     context.close()

@@ -5,7 +5,7 @@ codes, and an administrator's reset (recorded in the audit log)."""
 from __future__ import annotations
 
 from fastapi.testclient import TestClient
-from httpx import Response
+from httpx2 import Response
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 

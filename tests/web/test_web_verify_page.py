@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from datetime import timedelta
+from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
@@ -27,7 +28,7 @@ from app.certificates.numbers import check_letter
 from app.certificates.service import issue_certificate, revoke_certificate
 from app.config import get_settings
 from app.db import utcnow
-from web.webtools import AXE_PATH, REPO, axe_violations
+from web.webtools import REPO, axe_violations
 
 pytestmark = pytest.mark.browser
 
@@ -290,12 +291,11 @@ def shoot(page: Page, name: str, width: int) -> None:
 
 
 def test_the_verify_pages_have_no_axe_violations(
-    browser: Browser, browser_context_args: dict[str, Any], documents: dict[str, dict[str, Any]]
+    browser: Browser,
+    browser_context_args: dict[str, Any],
+    documents: dict[str, dict[str, Any]],
+    axe_script: Path,
 ) -> None:
-    if not AXE_PATH.is_file():
-        if os.environ.get("CI"):
-            pytest.fail(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
-        pytest.skip(f"{AXE_PATH} is missing: run `npm ci` at the top of the repository")
     context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
     page = context.new_page()
     found: dict[str, list[dict[str, Any]]] = {}
@@ -305,7 +305,7 @@ def test_the_verify_pages_have_no_axe_violations(
     urls["mistyped"] = f"/verify/{valid['number'][:-1]}{'A' if not valid['number'].endswith('A') else 'B'}"
     for name, url in urls.items():
         page.goto(url)
-        if violations := axe_violations(page, AXE_PATH):
+        if violations := axe_violations(page, axe_script):
             found[name] = violations
     context.close()
     assert found == {}, found

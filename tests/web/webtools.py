@@ -13,7 +13,7 @@ from typing import Any
 
 import pyotp
 from fastapi.testclient import TestClient
-from httpx import Response
+from httpx2 import Response
 from playwright.sync_api import Page
 from sqlalchemy import update
 from sqlalchemy.orm import Session
