@@ -26,7 +26,7 @@ Errors read "trikecert: ...". The insert triggers are named `supported_*`, so th
 lift the `immutable_*` triggers leave them in place; the vehicle's one is `immutable_*`.
 
 Revision ID: c27b2e000002
-Revises: a9c3e5f7b201
+Revises: c27a1e000001
 Create Date: 2026-12-03 11:00:00
 """
 
@@ -36,7 +36,7 @@ import sqlalchemy as sa
 from alembic import op
 
 revision: str = "c27b2e000002"
-down_revision: str | None = "a9c3e5f7b201"
+down_revision: str | None = "c27a1e000001"
 branch_labels: str | Sequence[str] | None = None
 depends_on: str | Sequence[str] | None = None
 
