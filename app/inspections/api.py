@@ -7,7 +7,7 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Body, Query, status
 from fastapi.responses import Response
-from pydantic import PlainValidator, WithJsonSchema
+from pydantic import BeforeValidator, PlainValidator, WithJsonSchema
 
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
@@ -34,7 +34,7 @@ from app.inspections.service import (
     list_inspections,
 )
 from app.inspections.submission import submit_inspection
-from app.numbers import LIMITS, POSITION_SCHEMA
+from app.numbers import LIMITS, POSITION_SCHEMA, ascii_number_text
 from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
@@ -123,6 +123,7 @@ def read_remedies(
         # A JSON number in the schema, as the body's positions are (the default Decimal schema
         # also admits any string).
         WithJsonSchema(POSITION_SCHEMA),
+        BeforeValidator(ascii_number_text),
         Query(
             ge=-LIMITS.seat_reach_m,
             le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m,
