@@ -20,7 +20,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sqlalchemy import ColumnElement, case, literal, select, update
+from sqlalchemy import ColumnElement, SQLColumnExpression, case, literal, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session
 
@@ -140,10 +140,11 @@ def delay_seconds(checks: int, *, allowance: int, base: int) -> int:
     `base`, doubling with each further check up to MAX_DOUBLINGS."""
     if checks < allowance:
         return 0
-    return base * 2 ** min(checks - allowance, MAX_DOUBLINGS)
+    doublings: int = min(checks - allowance, MAX_DOUBLINGS)
+    return base * (1 << doublings)
 
 
-def _delay(checks: ColumnElement[int], *, allowance: int, base: int) -> ColumnElement[int]:
+def _delay(checks: SQLColumnExpression[int], *, allowance: int, base: int) -> ColumnElement[int]:
     """`delay_seconds` as SQL (both databases): one branch per doubling."""
     whens = [(checks < allowance, literal(0))]
     whens += [
