@@ -25,9 +25,11 @@ from app.text import REFUSED_RANGES, REQUIRED, TextRefused, check_text
 
 # The characters app.text refuses, and those Python's str.strip() removes, spelt out so that the
 # pattern means the same to Python and to ECMA 262 with the `u` flag (ajv's default; JSON Schema's
-# patterns are code points): the Basic Multilingual Plane's as `\uXXXX` escapes (the surrogates'
-# range refuses an unpaired one), those beyond it (tags, private use) as the characters themselves
-# (JSON writes them as a surrogate pair, which a `u` pattern reads as one code point).
+# patterns are code points): the Basic Multilingual Plane's as `\uXXXX` escapes, those beyond it
+# (tags, private use) as the characters themselves (JSON writes them as a surrogate pair, which a `u`
+# pattern reads as one code point). Unpaired surrogates are refused too, but no pattern can say so:
+# Rust's and other engines refuse a surrogate in a pattern.
+SURROGATES = (0xD800, 0xDFFF)
 
 
 def _escaped(code: int) -> str:
@@ -37,8 +39,14 @@ def _escaped(code: int) -> str:
 
 
 def _class(ranges: tuple[tuple[int, int], ...]) -> str:
-    """The inside of a character class holding every code point of `ranges`."""
-    return "".join(_escaped(a) + ("" if a == b else "-" + _escaped(b)) for a, b in ranges)
+    """The inside of a character class holding every code point of `ranges` but the surrogates."""
+    parts = []
+    for first, last in ranges:
+        pieces = [(first, min(last, SURROGATES[0] - 1)), (max(first, SURROGATES[1] + 1), last)]
+        for low, high in pieces:
+            if low <= high:
+                parts.append(_escaped(low) + ("" if low == high else "-" + _escaped(high)))
+    return "".join(parts)
 
 
 _REFUSED = _class(REFUSED_RANGES)
