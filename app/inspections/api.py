@@ -9,6 +9,7 @@ from fastapi import APIRouter, Body, Query, status
 from fastapi.responses import Response
 from pydantic import BeforeValidator, PlainValidator, WithJsonSchema
 
+from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
 from app.api.openapi import REQUIRED_BODY, as_sent
@@ -71,6 +72,17 @@ def inspection_summary(listed: ListedInspection) -> InspectionSummary:
     # The key is read from the header and checked in the handler: the station's bearer scheme.
     openapi_extra={"security": [{BEARER_SCHEME: []}], **REQUIRED_BODY},
 )
+@cross_field_rules(
+    "sum_tolerance",
+    "range",
+    "duplicate",
+    "spread",
+    "front_wheel_lift",
+    "rear_wheel_lift",
+    "less_than_level",
+    "below_wheelbase",
+    "one_of",
+)
 def create_inspection(
     document: SubmissionBody = None,
     authorization: AuthorizationHeader = None,
@@ -108,6 +120,7 @@ def read_inspection(
     responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
     summary="What would make the vehicle comply: front ballast, seats forward, stiffer rear tyres",
 )
+@cross_field_rules("remedies_range")
 def read_remedies(
     inspection_id: InspectionId,
     session: SessionDep,
