@@ -51,6 +51,9 @@ class Settings(BaseSettings):
     session_absolute_hours: int = 12
     login_max_failures: int = 5
     login_lockout_minutes: int = 15
+    # Failed checks one client address may make within the lock-out period before it waits too: far
+    # above one account's allowance, since carrier-grade NAT puts many officers behind one address.
+    login_address_max_failures: int = Field(default=100, ge=1)
     # The second factor at sign-in: "required" of every account, or "optional" (used where enrolled).
     # Unset: required in production, optional in development and tests.
     mfa: Literal["required", "optional"] | None = None

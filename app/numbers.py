@@ -51,6 +51,14 @@ def whole_number_only(value: Any) -> Any:
     return value
 
 
+def ascii_number_text(value: Any) -> Any:
+    """A number from a query string in ASCII digits only (Decimal would read ٣ or ３ as 3): rule
+    `number_format`."""
+    if isinstance(value, str) and not (value.isascii() and value.strip() == value):
+        raise PydanticCustomError("number_format", "write the number in the digits 0-9, like 0.30")
+    return value
+
+
 def one_or_many(value: Any) -> Any:
     """Accept one reading or a list of repeated readings; hand the validator a list."""
     return value if isinstance(value, list) else [value]

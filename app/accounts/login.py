@@ -24,6 +24,7 @@ class SignInResult:
 
     started: NewSession | None
     outcome: str
+    locked: throttle.LockedOut | None = None  # who must wait, and how long, when locked out
 
 
 def sign_in(
@@ -32,11 +33,11 @@ def sign_in(
     """Start a session when the credentials are right, the account active and not locked out."""
     email = normalise_email(email)
     check = throttle.claim_check(session, email=email, client_ip=client_ip, settings=settings)
-    if check is None:
+    if isinstance(check, throttle.LockedOut):
         throttle.record_attempt(
             session, email=email, outcome=throttle.LOCKED_OUT, user_id=None, client_ip=client_ip
         )
-        return SignInResult(started=None, outcome=throttle.LOCKED_OUT)
+        return SignInResult(started=None, outcome=throttle.LOCKED_OUT, locked=check)
     user = session.scalar(select(User).where(func.lower(User.email) == email))
     if user is None:
         verify_password(_DUMMY_HASH, password)

@@ -66,12 +66,15 @@ def confirm(
     """Check the password (and the code when one is needed) and mark the session as just verified;
     raise ReauthenticationRefused, naming the field, when either is wrong."""
     user = record.user
-    check = throttle.claim_check(session, email=user.email, client_ip=client_ip, settings=settings)
-    if check is None:
+    # Counted against this session alone: wrong sign-ins at the account (an attacker's) never stop
+    # an officer who is signed in, and this session's wrong answers lock only itself.
+    check = throttle.claim_key(
+        session, key=f"reauth:{record.id}", limit=settings.login_max_failures, settings=settings
+    )
+    if isinstance(check, throttle.LockedOut):
         _record(session, record, "user.reauthentication_locked_out", client_ip)
         raise ReauthenticationRefused(
-            f"{PASSWORD_FIELD}: too many wrong passwords; wait {settings.login_lockout_minutes} minutes, "
-            "then try again",
+            f"{PASSWORD_FIELD}: too many wrong passwords; wait {check.wait_minutes} minutes, then try again",
             field=PASSWORD_FIELD,
             rule="lock_out",
         )
@@ -84,7 +87,9 @@ def confirm(
     throttle.settle_check(session, check, outcome=throttle.SUCCESS)
     if needs_code(record, settings):
         try:
-            second_factor.check_code(session, user=user, code=code, settings=settings)
+            second_factor.check_code(
+                session, user=user, code=code, settings=settings, throttle_key=f"reauth-code:{record.id}"
+            )
         except second_factor.CodeRefused as error:
             _record(session, record, "user.reauthentication_failed", client_ip)
             raise ReauthenticationRefused(

@@ -103,13 +103,13 @@ def _take_step(session: Session, user: User, step: int) -> bool:
     return bool(getattr(taken, "rowcount", 0))
 
 
-def _claim(session: Session, user: User, settings: Settings) -> throttle.ClaimedCheck:
+def _claim(session: Session, user: User, settings: Settings, key: str | None = None) -> throttle.ClaimedCheck:
     check = throttle.claim_key(
-        session, key=f"code:{user.id}", limit=settings.login_max_failures, settings=settings
+        session, key=key or f"code:{user.id}", limit=settings.login_max_failures, settings=settings
     )
-    if check is None:
+    if isinstance(check, throttle.LockedOut):
         raise CodeRefused(
-            f"code: too many wrong codes; wait {settings.login_lockout_minutes} minutes, then try again",
+            f"code: too many wrong codes; wait {check.wait_minutes} minutes, then try again",
             field="code",
             rule="lock_out",
         )
@@ -146,10 +146,13 @@ def confirm_enrolment(session: Session, *, user: User, code: str, settings: Sett
     return codes
 
 
-def check_code(session: Session, *, user: User, code: str, settings: Settings) -> str:
+def check_code(
+    session: Session, *, user: User, code: str, settings: Settings, throttle_key: str | None = None
+) -> str:
     """Accept a current code or an unused recovery code, once; return which ("code" or
-    "recovery code"), or raise CodeRefused."""
-    check = _claim(session, user, settings)
+    "recovery code"), or raise CodeRefused. Wrong codes count against `throttle_key` (a signed-in
+    session's own, for re-authentication), else against the account's codes."""
+    check = _claim(session, user, settings, throttle_key)
     typed = _normalised(code)
     step = _step_of(user.totp_secret or "", typed, time.time()) if is_enrolled(user) else None
     if step is not None and _take_step(session, user, step):

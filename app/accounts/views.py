@@ -30,6 +30,14 @@ REFUSALS = {
 }
 
 
+def locked_out_message(locked: throttle.LockedOut) -> str:
+    """Why sign-in is refused for now, and for how long."""
+    wait = f"Wait {locked.wait_minutes} minute{'s' if locked.wait_minutes != 1 else ''}, then try again"
+    if locked.scope == throttle.ADDRESS:
+        return f"There have been too many failed sign-ins from this network. {wait}"
+    return f"There have been too many failed sign-ins for this account. {wait}"
+
+
 def safe_next(path: str | None) -> str:
     """Only a path on this site may follow sign-in (never another host); home instead of any other.
 
@@ -114,14 +122,8 @@ def login(request: Request, session: SessionDep, form: FormDep) -> Response:
     client_ip = request.client.host if request.client else None
     result = sign_in(session, email=email, password=password, client_ip=client_ip, settings=settings)
     if result.started is None:
-        if result.outcome == throttle.LOCKED_OUT:
-            status, message = (
-                429,
-                (
-                    "There have been too many failed sign-ins for this account. "
-                    f"Wait {settings.login_lockout_minutes} minutes, then try again"
-                ),
-            )
+        if result.locked is not None:
+            status, message = 429, locked_out_message(result.locked)
         else:
             status, message = REFUSALS[result.outcome]
         errors.add("email", message)

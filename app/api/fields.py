@@ -21,13 +21,36 @@ from pydantic import BeforeValidator, GetCoreSchemaHandler, GetJsonSchemaHandler
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema, PydanticCustomError, core_schema
 
-from app.text import REQUIRED, TextRefused, check_text
+from app.text import REFUSED_RANGES, REQUIRED, TextRefused, check_text
 
-# Characters Python's str.strip() removes, and the characters app.text refuses (control, text-direction,
-# zero-width and U+FFFD), spelt out so that the pattern means the same to JSON Schema validators (ECMA 262)
-# and Python. Unpaired surrogates are refused too; no pattern can say so in both engines.
-_REFUSED = r"\x00-\x1f\x7f-\x9f\u061c\u200b-\u200f\u202a-\u202e\u2060\u2066-\u2069\ufeff\ufffd"
-_BLANK_OR_REFUSED = _REFUSED + r"\x20\xa0\u1680\u2000-\u200a\u2028\u2029\u202f\u205f\u3000"
+# The characters app.text refuses, and those Python's str.strip() removes, spelt out so that the
+# pattern means the same to Python and to ECMA 262 with the `u` flag (ajv's default; JSON Schema's
+# patterns are code points): the Basic Multilingual Plane's as `\uXXXX` escapes, those beyond it
+# (tags, private use) as the characters themselves (JSON writes them as a surrogate pair, which a `u`
+# pattern reads as one code point). Unpaired surrogates are refused too, but no pattern can say so:
+# Rust's and other engines refuse a surrogate in a pattern.
+SURROGATES = (0xD800, 0xDFFF)
+
+
+def _escaped(code: int) -> str:
+    if code < 0x10000:
+        return f"\\u{code:04x}" if code > 0xFF else f"\\x{code:02x}"
+    return chr(code)
+
+
+def _class(ranges: tuple[tuple[int, int], ...]) -> str:
+    """The inside of a character class holding every code point of `ranges` but the surrogates."""
+    parts = []
+    for first, last in ranges:
+        pieces = [(first, min(last, SURROGATES[0] - 1)), (max(first, SURROGATES[1] + 1), last)]
+        for low, high in pieces:
+            if low <= high:
+                parts.append(_escaped(low) + ("" if low == high else "-" + _escaped(high)))
+    return "".join(parts)
+
+
+_REFUSED = _class(REFUSED_RANGES)
+_BLANK_OR_REFUSED = _REFUSED + r"\x20\xa0\u1680\u2000-\u200a\u202f\u205f\u3000"
 TEXT_PATTERN = rf"^[^{_REFUSED}]*[^{_BLANK_OR_REFUSED}][^{_REFUSED}]*$"
 
 

@@ -7,8 +7,9 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Body, Query, Request, status
 from fastapi.responses import Response
-from pydantic import PlainValidator, WithJsonSchema
+from pydantic import BeforeValidator, PlainValidator, WithJsonSchema
 
+from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
 from app.api.openapi import REQUIRED_BODY, as_sent
@@ -34,7 +35,7 @@ from app.inspections.service import (
     list_inspections,
 )
 from app.inspections.submission import submit_inspection
-from app.numbers import LIMITS, POSITION_SCHEMA
+from app.numbers import LIMITS, POSITION_SCHEMA, ascii_number_text
 from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
@@ -70,6 +71,17 @@ def inspection_summary(listed: ListedInspection) -> InspectionSummary:
     summary="Submit weighbridge readings; answers with Table 4 and the verdict",
     # The key is read from the header and checked in the handler: the station's bearer scheme.
     openapi_extra={"security": [{BEARER_SCHEME: []}], **REQUIRED_BODY},
+)
+@cross_field_rules(
+    "sum_tolerance",
+    "range",
+    "duplicate",
+    "spread",
+    "front_wheel_lift",
+    "rear_wheel_lift",
+    "less_than_level",
+    "below_wheelbase",
+    "one_of",
 )
 def create_inspection(
     request: Request,
@@ -114,6 +126,7 @@ def read_inspection(
     responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
     summary="What would make the vehicle comply: front ballast, seats forward, stiffer rear tyres",
 )
+@cross_field_rules("remedies_range")
 def read_remedies(
     inspection_id: InspectionId,
     session: SessionDep,
@@ -129,6 +142,7 @@ def read_remedies(
         # A JSON number in the schema, as the body's positions are (the default Decimal schema
         # also admits any string).
         WithJsonSchema(POSITION_SCHEMA),
+        BeforeValidator(ascii_number_text),
         Query(
             ge=-LIMITS.seat_reach_m,
             le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m,

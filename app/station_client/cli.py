@@ -187,7 +187,7 @@ class _DefaultsFormatter(argparse.ArgumentDefaultsHelpFormatter):
 
 def _positive_id(text: str) -> int:
     value = text.removeprefix("#")
-    if not value.isdigit() or int(value) < 1:
+    if not (value.isascii() and value.isdigit()) or int(value) < 1:
         raise argparse.ArgumentTypeError(f"{text!r} is not a queue id such as 3 or #3 (see: report)")
     return int(value)
 

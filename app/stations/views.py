@@ -38,7 +38,7 @@ from app.stations.service import (
 )
 from app.web import submissions
 from app.web.deps import AdminLogin, AdminPost, ConfirmedAdminPost, FormDep, SessionDep
-from app.web.forms import FormErrors, parse_decimal, text
+from app.web.forms import FormErrors, ascii_digits, parse_decimal, text
 from app.web.templating import render
 
 router = APIRouter(include_in_schema=False)
@@ -115,7 +115,7 @@ def _valid_until(values: dict[str, str], errors: FormErrors) -> date | None:
         first = DATE_PARTS[[bool(p) for p in parts].index(False)]
         errors.add(first, f"The date the calibration is valid until must include a {' and '.join(missing)}")
         return None
-    if not all(p.isdigit() for p in parts) or len(parts[2]) != 4:
+    if not all(ascii_digits(p) for p in parts) or len(parts[2]) != 4:
         errors.add("valid_until_day", f"Enter the date the calibration is valid until as numbers, {example}")
         return None
     try:

@@ -11,6 +11,7 @@ from decimal import Decimal
 
 from fastapi import APIRouter, status
 
+from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
@@ -85,6 +86,7 @@ def type_assessment_out(record: TypeAssessmentRecord) -> TypeAssessmentOut:
     responses={**error_responses(400, 401, 404, 413, 422), **RATE_LIMITED_RESPONSE},
     summary="Assess a make and model from two or more vehicles' inspections; stored for good",
 )
+@cross_field_rules("too_few", "same_model", "one_per_vehicle", "same_layout", "measured_cases")
 def create(body: TypeAssessmentIn, session: SessionDep, station: StationDep) -> TypeAssessmentOut:
     """The type's Table 4 from the mean readings, each case's spread and the confident verdict.
 

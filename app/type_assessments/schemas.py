@@ -37,6 +37,7 @@ class TypeAssessmentIn(BaseModel):
                 min_length=2,
                 max_length=MAX_LIST_ITEMS,  # more vehicles: leave the ids out (the latest of each)
                 description="The inspections to use, one per vehicle (default: each vehicle's latest)",
+                json_schema_extra={"uniqueItems": True},  # an id twice is refused (one_per_vehicle)
             ),
         ]
         | None

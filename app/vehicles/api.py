@@ -8,6 +8,7 @@ from fastapi import APIRouter, Path, status
 from fastapi.responses import Response
 from sqlalchemy.orm import Session
 
+from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
 from app.idempotency.http import (
@@ -59,6 +60,7 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
     },
     summary="Register a vehicle with its seat layout",
 )
+@cross_field_rules("range")
 def create_vehicle(
     body: VehicleIn,
     session: SessionDep,

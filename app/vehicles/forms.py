@@ -7,7 +7,9 @@ from decimal import Decimal
 
 from starlette.datastructures import FormData
 
-from app.web.forms import FormErrors, parse_decimal, text
+from app.vehicles.schemas import REGISTRATION_WORDS
+from app.vehicles.service import normalise_registration, valid_key
+from app.web.forms import FormErrors, parse_decimal, readable, text
 
 PASSENGER_ROWS = 6
 TEXT_LIMITS = {"registration_number": 32, "make": 80, "model": 80, "chassis_number": 64}
@@ -44,6 +46,9 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
     result = VehicleForm(values=values, errors=errors)
     if not values["registration_number"]:
         errors.add("registration_number", "Enter the registration number, like BDG 252 QH")
+    elif not valid_key(normalise_registration(values["registration_number"])):
+        # The API's rule and words, beside the field even when another field is wrong too.
+        errors.add("registration_number", readable(REGISTRATION_WORDS))
     for name, words in (("make", "make, like Bajaj"), ("model", "model, like RE 4S")):
         if not values[name]:
             errors.add(name, f"Enter the {words}")

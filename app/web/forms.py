@@ -14,7 +14,8 @@ from app.text import TextRefused, character_problem, check_text, without_refused
 
 # The core and services start each message with the field's path ("readings.front_kg[1]: ...").
 _FIELD_PREFIX = re.compile(r"^[A-Za-z_][\w.\[\]]*: ")
-_NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)$")
+# ASCII digits only: Python's \d (and Decimal) would read Arabic-Indic or fullwidth digits as numbers.
+_NUMBER = re.compile(r"^[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)$")
 
 
 def text(form: FormData, name: str, errors: FormErrors, *, limit: int, multiline: bool = False) -> str:
@@ -68,6 +69,11 @@ def parse_decimal(value: str) -> Decimal | None:
         return Decimal(cleaned)
     except InvalidOperation:
         return None
+
+
+def ascii_digits(value: str) -> bool:
+    """True for a non-empty run of the digits 0-9 only (str.isdigit also takes ٣, ３ and ²)."""
+    return value.isascii() and value.isdigit()
 
 
 def readable(message: str) -> str:

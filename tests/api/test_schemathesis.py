@@ -11,8 +11,10 @@ stateful run follows the links schemathesis infers (a stored inspection to its r
 a certificate to its PDF), where the stateful checks (use_after_free, ensure_resource_availability,
 object_level_authorization) act too. One is narrowed, not disabled: positive_data_acceptance
 also accepts a 422 for a rule that relates several fields, which JSON Schema cannot state, once the
-request is shown to break it (see `refused_by_a_cross_field_rule`), a remedies query beyond the
-stored inspection's seats or wheelbase (`refused_for_the_inspection_on_file`), or a 422 for an
+request is shown to break it (see `refused_by_a_cross_field_rule`) and the operation's description
+in the schema names that rule (`documented_in_the_schema`, app/api/cross_field.py), a remedies query
+beyond the stored inspection's seats or wheelbase (`refused_for_the_inspection_on_file`, documented
+the same way), or a 422 for an
 Idempotency-Key that this run sent before with another request; in the stateful run negative_data_rejection is
 narrowed the same way for one schemathesis artefact (a linked path value judged while still
 percent-encoded, see `negative_data_rejection_with_linked_values_decoded`). Checks are added: the
@@ -86,6 +88,7 @@ CONFIG = schemathesis.Config.from_dict(
 # The schema is read from an app built at import; every request goes to the app of the `client`
 # fixture, which is built once the test database is in place.
 schema = schemathesis.openapi.from_asgi("/openapi.json", create_app(), config=CONFIG)
+SCHEMA_DOCUMENT: dict[str, Any] = create_app().openapi()
 
 
 # The inspection the `on_file` fixture stored for the running test, and the second vehicle's.
@@ -321,6 +324,16 @@ def _note_key(case: schemathesis.Case[Any]) -> None:
         KEYS_SENT.setdefault(key, set()).add(request)
 
 
+def documented_in_the_schema(case: schemathesis.Case[Any], problem: dict[str, str]) -> bool:
+    """Does the operation's description in /openapi.json name the rule the request was refused for?
+
+    A client generated from the schema reads the rules that relate several values there
+    (app/api/cross_field.py); a refusal for a rule the schema does not name would surprise it.
+    """
+    operation = SCHEMA_DOCUMENT["paths"][case.operation.path][case.operation.method.lower()]
+    return f"- `{problem.get('rule', '')}`:" in operation.get("description", "")
+
+
 def positive_data_acceptance_with_cross_field_rules(
     ctx: CheckContext, response: schemathesis.Response, case: schemathesis.Case[Any]
 ) -> bool | None:
@@ -338,9 +351,14 @@ def positive_data_acceptance_with_cross_field_rules(
         problems = response.json().get("errors", [])
         body = case.body if isinstance(case.body, dict) else None
         explained = [
-            (body is not None and refused_by_a_cross_field_rule(body, p))
+            (
+                documented_in_the_schema(case, p)
+                and (
+                    (body is not None and refused_by_a_cross_field_rule(body, p))
+                    or refused_for_the_inspection_on_file(case, p)
+                )
+            )
             or _reused_key(case, p)
-            or refused_for_the_inspection_on_file(case, p)
             for p in problems
         ]
         if not problems or not all(explained):

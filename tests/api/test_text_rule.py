@@ -6,6 +6,7 @@ text (typed with combining accents) is accepted and stored composed (NFC), so th
 
 from __future__ import annotations
 
+import re
 import unicodedata
 from collections.abc import Iterator
 from typing import Any
@@ -15,6 +16,7 @@ import pytest
 from fastapi.testclient import TestClient
 from openapi_walk import SCHEMA, field_name, leaves, options, place, sample, send_json
 from sqlalchemy import Engine, func, select
+from text_classes import INVISIBLE_CLASSES, named
 
 from app.api.fields import TEXT_PATTERN
 from app.db import Base
@@ -37,6 +39,7 @@ BAD_CHARACTERS: dict[str, tuple[str, str]] = {
     "byte-order mark": ("\ufeff", "invisible_character"),
     "unpaired surrogate": ("\ud800", "unpaired_surrogate"),
     "replacement character": ("\ufffd", "replacement_character"),
+    **INVISIBLE_CLASSES,
 }
 DECOMPOSED = unicodedata.normalize("NFD", "Ṣàngó")  # S + dot below, a + grave, o + acute
 VEHICLES = "/api/v1/vehicles"
@@ -133,22 +136,33 @@ def test_good_text_in_every_string_of_a_body_is_accepted_and_stored_composed(
         assert good.upper() not in response.text
 
 
-@pytest.mark.parametrize("bad", BAD_CHARACTERS)
 @pytest.mark.parametrize("case", BODY_CASES)
-def test_a_refused_character_in_any_string_of_a_body_is_a_422_naming_field_and_rule(
-    api: TestClient, engine: Engine, case: str, bad: str
+def test_a_refused_character_in_any_string_of_a_body_is_a_422_naming_field_rule_and_character(
+    api: TestClient, engine: Engine, case: str
 ) -> None:
+    """Each class of refused character in turn (one request each, the records prepared once)."""
     method, url, leaf, schema = BODY_CASES[case]
     prepare(api, url)
     base, good = _bodies(schema, leaf)
-    char, rule = BAD_CHARACTERS[bad]
-    before = counts(engine)
-    response = send_json(api, method, url, place(base, schema, leaf, good[:2] + char + good[2:]))
-    assert response.status_code == 422, response.text
-    problems = {(p["field"], p["rule"]) for p in response.json()["errors"]}
-    assert (field_name(leaf), rule) in problems, response.text
-    assert f"U+{ord(char):04X}" in response.json()["detail"]
-    assert counts(engine) == before
+    for bad, (char, rule) in BAD_CHARACTERS.items():
+        before = counts(engine)
+        response = send_json(api, method, url, place(base, schema, leaf, good[:2] + char + good[2:]))
+        assert response.status_code == 422, f"{bad}: {response.text}"
+        problems = {(p["field"], p["rule"]) for p in response.json()["errors"]}
+        assert (field_name(leaf), rule) in problems, f"{bad}: {response.text}"
+        detail = response.json()["detail"]
+        assert (named(char) if bad in INVISIBLE_CLASSES else f"U+{ord(char):04X}") in detail, detail
+        assert counts(engine) == before, bad
+
+
+def test_the_schema_s_pattern_refuses_what_the_rule_refuses_and_takes_what_it_takes() -> None:
+    """A client that validates against /openapi.json is not surprised: the pattern and the rule agree."""
+    pattern = re.compile(TEXT_PATTERN)
+    for bad, (char, rule) in BAD_CHARACTERS.items():
+        if rule != "unpaired_surrogate":  # no pattern can name one (app/api/fields.py)
+            assert not pattern.search(f"Ba{char}jaj"), bad
+    for good in ("Bajaj", DECOMPOSED, "Ṣàngó", "Keke 😀", "\U0001d400 bold", "Bajaj\u00a0RE", "ㄱ"):
+        assert pattern.search(good), good
 
 
 @pytest.mark.parametrize("case", BODY_CASES)
@@ -166,23 +180,23 @@ def test_text_longer_than_its_limit_is_refused_not_cut(api: TestClient, engine: 
     assert counts(engine) == before
 
 
-@pytest.mark.parametrize("bad", BAD_CHARACTERS)
 @pytest.mark.parametrize("case", PARAMETER_CASES)
 def test_a_refused_character_in_any_path_or_query_parameter_is_a_4xx(
-    api: TestClient, engine: Engine, case: str, bad: str
+    api: TestClient, engine: Engine, case: str
 ) -> None:
     method, url, where, name = PARAMETER_CASES[case]
     prepare(api, "")
-    char, _rule = BAD_CHARACTERS[bad]
-    # A surrogate cannot be written in UTF-8: a client can only send its would-be bytes.
-    encoded = quote("BDG" + char + "252", encoding="utf-8", errors="surrogatepass")
-    path = url
-    for parameter in SCHEMA["paths"][url][method.lower()].get("parameters", []):
-        if parameter["in"] == "path":
-            path = path.replace("{" + parameter["name"] + "}", encoded if parameter["name"] == name else "1")
-    if where == "query":
-        path += f"?{name}={encoded}"
-    before = counts(engine)
-    response = api.request(method, path)
-    assert 400 <= response.status_code < 500, response.text
-    assert counts(engine) == before
+    for bad, (char, _rule) in BAD_CHARACTERS.items():
+        # A surrogate cannot be written in UTF-8: a client can only send its would-be bytes.
+        encoded = quote("BDG" + char + "252", encoding="utf-8", errors="surrogatepass")
+        path = url
+        for parameter in SCHEMA["paths"][url][method.lower()].get("parameters", []):
+            if parameter["in"] == "path":
+                value = encoded if parameter["name"] == name else "1"
+                path = path.replace("{" + parameter["name"] + "}", value)
+        if where == "query":
+            path += f"?{name}={encoded}"
+        before = counts(engine)
+        response = api.request(method, path)
+        assert 400 <= response.status_code < 500, f"{bad}: {response.text}"
+        assert counts(engine) == before, bad

@@ -21,6 +21,7 @@ from fastapi.routing import iter_route_contexts
 from fastapi.testclient import TestClient
 from sqlalchemy import CompoundSelect, Engine, Select, String, Text, cast, func, select, union_all
 from sqlalchemy.orm import Session
+from text_classes import FOREIGN_DIGITS, INVISIBLE_CLASSES, named
 
 from app.accounts.service import create_user
 from app.db import Base
@@ -410,3 +411,64 @@ def test_signing_in_with_a_nul_in_the_email_is_refused_beside_the_field(
     assert "U+0000" in response.text
     assert 'id="email-error"' in response.text
     assert snapshot(engine) == before  # not even a failed attempt is logged
+
+
+# ---- every class of issue 27 item 5, on one form of each kind -------------------------------------
+
+CLASS_FIELDS = [
+    ("/vehicles/new", "make"),
+    ("/vehicles/new", "registration_number"),
+    ("/admin/stations/new", "name"),
+]
+VEHICLE = {
+    "registration_number": "KTU 77 XA",
+    "make": "Bajaj",
+    "model": "RE",
+    "wheelbase_m": "2.000",
+    "driver_x_m": "0.930",
+}
+
+
+@pytest.mark.parametrize(("action", "name"), CLASS_FIELDS)
+def test_every_invisible_class_is_refused_beside_the_field_naming_the_character(
+    admin_web: TestClient, engine: Engine, action: str, name: str
+) -> None:
+    good = VEHICLE if action == "/vehicles/new" else {"name": "Agbara weighbridge"}
+    before = snapshot(engine)
+    for kind, (char, _rule) in INVISIBLE_CLASSES.items():
+        value = good[name][:3] + char + good[name][3:]
+        response = post_form(admin_web, action, action, {**good, name: value})
+        assert response.status_code == 422, f"{kind}: {response.status_code}"
+        message = re.search(rf'id="{name}-error"[^>]*>(.*?)</p>', response.text, re.S)
+        assert message is not None, f"{kind}: no message beside the field"
+        assert named(char) in message.group(1), f"{kind}: {message.group(1)}"
+        assert snapshot(engine) == before, f"{kind}: something was stored"
+
+
+@pytest.mark.parametrize("digits", FOREIGN_DIGITS)
+def test_numbers_are_read_only_in_the_digits_0_to_9_on_the_forms(
+    web: TestClient, engine: Engine, study_vehicle: Vehicle, digits: str
+) -> None:
+    """٢٠١٢ or ２０１２ is refused beside its field, as the API refuses it, never read as 2012."""
+    foreign = FOREIGN_DIGITS[digits]
+    two, zero, one = foreign[0], foreign[1], foreign[2]
+    vehicle = {
+        **VEHICLE,
+        "model_year": foreign,
+        "wheelbase_m": f"{two}.{zero}{zero}{zero}",
+        "driver_x_m": f"{zero}.9{one}",
+    }
+    inspection = {**STUDY_READINGS, "front_kg_1": f"{one}{zero}8"}
+    before = snapshot(engine)
+    forms = [
+        ("/vehicles/new", vehicle, ["model_year", "wheelbase_m", "driver_x_m"]),
+        ("/vehicles/BDG252QH/inspections/new", inspection, ["front_kg_1"]),
+    ]
+    for page, values, refused in forms:
+        response = post_form(web, page, page, values)
+        assert response.status_code == 422, f"{page}: {response.status_code}"
+        for name in refused:
+            message = re.search(rf'id="{name}-error"[^>]*>(.*?)</p>', response.text, re.S)
+            assert message is not None, f"{page} {name}: no message beside the field"
+            assert "number" in message.group(1) or "digits" in message.group(1), message.group(1)
+    assert snapshot(engine) == before

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+
+import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
@@ -58,6 +61,21 @@ def test_an_invalid_vehicle_is_shown_again_with_messages_beside_the_fields_and_n
     assert 'aria-describedby="wheelbase_m-hint wheelbase_m-error"' in html
     assert 'value="kja-123 xy"' in html  # the values stay
     assert "<title>Error: Register a vehicle" in html
+    assert session.scalar(select(func.count()).select_from(Vehicle)) == 0
+
+
+@pytest.mark.parametrize("others", [{}, {"wheelbase_m": ""}], ids=["alone", "with another mistake"])
+def test_a_registration_the_api_refuses_is_refused_beside_the_field_in_the_api_s_words(
+    web: TestClient, session: Session, others: dict[str, str]
+) -> None:
+    response = post_form(
+        web, "/vehicles/new", "/vehicles/new", {**FORM, "registration_number": "BDG-252-QH!!", **others}
+    )
+    assert response.status_code == 422
+    beside = re.search(r'id="registration_number-error"[^>]*>(.*?)</p>', response.text, re.S)
+    assert beside is not None, "no message beside the registration number"
+    assert "Use 2 to 16 letters and digits, like BDG 252 QH (spaces and hyphens are ignored)" in beside[1]
+    assert 'href="#registration_number"' in response.text  # and in the summary above the form
     assert session.scalar(select(func.count()).select_from(Vehicle)) == 0
 
 
