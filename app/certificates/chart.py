@@ -17,6 +17,7 @@ from app.certificates import fonts
 from app.certificates.facts import CaseFacts
 from app.inspections.wording import verdict_mark
 from app.stability import LSF_LIMIT
+from app.web.chart import short_label
 
 LIMIT = float(LSF_LIMIT)
 STEP = 0.05
@@ -57,11 +58,6 @@ def chart_height(room: float) -> float | None:
     """The plotting area's height for `room` mm below the heading (None: too little room)."""
     height = min(PREFERRED_H, room - ABOVE - BELOW)
     return height if height >= MIN_H else None
-
-
-def short_label(occupants: int) -> str:
-    """The axis name of a case: Empty, Driver, +1, +2, ..."""
-    return {0: "Empty", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
 
 
 def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> tuple[float, float, float, float]:

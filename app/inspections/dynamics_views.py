@@ -19,7 +19,7 @@ from app.inspections.dynamics_wording import (
     readings_text,
 )
 from app.inspections.models import Inspection
-from app.stability import case_label
+from app.inspections.wording import case_name
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
 from app.web.formatting import NOT_RECORDED
@@ -65,7 +65,7 @@ def estimates(inspection: Inspection) -> Estimates:
         rows.append(
             EstimateRow(
                 occupants=case.occupants,
-                label=case_label(case.occupants),
+                label=case_name(case.occupants),
                 compliant=case.compliant,
                 lsf=lsf,
                 cg_height=figure_text(figures.cg_height_m, 4, "m"),
@@ -81,7 +81,7 @@ def estimates(inspection: Inspection) -> Estimates:
             points.append(
                 MapPoint(
                     short_label(case.occupants),
-                    case_label(case.occupants),
+                    case_name(case.occupants),
                     lsf,
                     figures.rollover_threshold_g,
                     case.compliant,

@@ -14,8 +14,8 @@ from app.inspections.dynamics import inspection_dynamics
 from app.inspections.dynamics_wording import figure_text
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
-from app.inspections.wording import remedies_sentence, remedy_applied
-from app.stability import StabilityError, case_label
+from app.inspections.wording import case_name, remedies_sentence, remedy_applied
+from app.stability import StabilityError
 from app.stability.dynamics import rollover_after_remedy
 from app.stability.remedies import Remedies, advice_of, complies, size_remedies
 from app.web.chart import ChartPoint, before_after_chart, short_label
@@ -86,7 +86,7 @@ def _sized(inspection: Inspection, choice: RemedyChoice, errors: FormErrors) -> 
 
 def _points(remedies: Remedies, after: list[Fraction | None]) -> list[ChartPoint]:
     return [
-        ChartPoint(short_label(c.occupants), case_label(c.occupants), float(lsf), complies(lsf))
+        ChartPoint(short_label(c.occupants), case_name(c.occupants), float(lsf), complies(lsf))
         for c, lsf in zip(remedies.cases, after, strict=True)
         if lsf is not None
     ]
@@ -127,7 +127,7 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
     thresholds = {c.occupants: thresholds.get(c.occupants) for c in remedies.cases}
     rows = [
         {
-            "label": case_label(c.occupants),
+            "label": case_name(c.occupants),
             "rollover": _rollover(thresholds.get(c.occupants), c.lsf, c.lsf),
             "rollover_after_ballast": _rollover(thresholds.get(c.occupants), c.lsf, c.lsf_after_ballast),
             "rollover_after_seat_shift": _rollover(

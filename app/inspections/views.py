@@ -24,8 +24,7 @@ from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspe
 from app.inspections.models import Inspection
 from app.inspections.remedy_page import remedies_context
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
-from app.inspections.wording import occupancy_sentence, verdict_sentence
-from app.stability import case_label
+from app.inspections.wording import case_name, occupancy_sentence, verdict_sentence
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
@@ -129,7 +128,7 @@ def table_rows(inspection: Inspection) -> list[dict[str, Any]]:
     return [
         {
             "occupants": case.occupants,
-            "label": case_label(case.occupants),
+            "label": case_name(case.occupants),
             "total_kg": case.total_kg,
             "rear_kg": case.rear_kg,
             "lsf": case.lsf,
@@ -154,8 +153,7 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
     """What the result partial shows: Table 4, the verdict in words, the occupancy and the chart."""
     cases = inspection.loading_cases
     points = [
-        ChartPoint(short_label(c.occupants), case_label(c.occupants), float(c.lsf), c.compliant)
-        for c in cases
+        ChartPoint(short_label(c.occupants), case_name(c.occupants), float(c.lsf), c.compliant) for c in cases
     ]
     return {
         "inspection": inspection,

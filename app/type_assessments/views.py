@@ -15,8 +15,7 @@ from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import TypeAssessmentId
 from app.inspections.models import Inspection
-from app.inspections.wording import type_occupancy_sentence, verdict_sentence
-from app.stability import case_label
+from app.inspections.wording import case_name, type_occupancy_sentence, verdict_sentence
 from app.type_assessments.chart import SpreadPoint, spread_chart
 from app.type_assessments.models import TypeAssessmentRecord
 from app.type_assessments.service import (
@@ -162,7 +161,7 @@ def page_context(record: TypeAssessmentRecord) -> dict[str, Any]:
         "rows": [
             {
                 "occupants": c.occupants,
-                "label": case_label(c.occupants),
+                "label": case_name(c.occupants),
                 "total_kg": c.total_kg,
                 "rear_kg": c.rear_kg,
                 "lsf": c.lsf,

@@ -39,8 +39,8 @@ class ChartPoint:
 
 
 def short_label(occupants: int) -> str:
-    """The axis label of a loading case: None, Driver, +1, +2, ..."""
-    return {0: "None", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
+    """The axis label of a loading case: Empty, Driver, +1, +2, ..."""
+    return {0: "Empty", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
 
 
 def y_range(values: Sequence[float]) -> tuple[float, float]:

@@ -12,8 +12,7 @@ from starlette.templating import Jinja2Templates
 
 from app.accounts import second_factor
 from app.config import get_settings
-from app.inspections.wording import verdict_mark
-from app.stability import case_label
+from app.inspections.wording import case_name, verdict_mark
 from app.web import formatting
 
 TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
@@ -40,7 +39,7 @@ _env.filters.update(
 _env.globals.update(
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
-    case_label=case_label,
+    case_name=case_name,
     verdict_mark=verdict_mark,
     not_recorded=formatting.NOT_RECORDED,
 )

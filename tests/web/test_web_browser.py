@@ -83,7 +83,7 @@ def test_register_a_vehicle_then_inspect_it_and_read_table_4_and_the_chart(
 
     rows = page.locator("#table-4 tbody tr")
     expect(rows).to_have_count(5)
-    expect(rows.nth(0)).to_contain_text("None")
+    expect(rows.nth(0)).to_contain_text("Empty (no occupants)")
     expect(rows.nth(1)).to_contain_text("Driver")
     table = [[c.strip() for c in rows.nth(i).locator("th, td").all_inner_texts()] for i in range(5)]
     assert [row[-1].split()[0] for row in table] == ["NC", "C", "NC", "NC", "NC"]

@@ -11,7 +11,7 @@ from app.web.chart import ChartPoint, lsf_chart, y_range
 
 SVG = "{http://www.w3.org/2000/svg}"
 STUDY = [
-    ChartPoint("None", "None", 0.6964, False),
+    ChartPoint("Empty", "Empty (no occupants)", 0.6964, False),
     ChartPoint("Driver", "Driver", 0.6578, True),
     ChartPoint("+1", "Driver + 1 passenger", 0.6803, False),
     ChartPoint("+2", "Driver + 2 passengers", 0.6972, False),
@@ -28,7 +28,7 @@ def test_the_chart_is_well_formed_svg_with_a_text_alternative() -> None:
     assert "Lateral Stability Factor" in (title.text or "")
     assert desc is not None
     assert "Driver: 0.658, C (compliant)" in (desc.text or "")
-    assert "None: 0.696, NC (not compliant)" in (desc.text or "")
+    assert "Empty (no occupants): 0.696, NC (not compliant)" in (desc.text or "")
     assert svg.get("aria-labelledby") == f"{title.get('id')} {desc.get('id')}"
 
 
@@ -49,7 +49,7 @@ def test_the_limit_line_sits_at_two_thirds_with_the_unstable_region_above_it() -
     texts = [t.text for t in svg.iter(f"{SVG}text")]
     assert "limit 2/3" in texts
     assert "unstable" in texts
-    for label in ("None", "Driver", "+1", "+2", "+3"):
+    for label in ("Empty", "Driver", "+1", "+2", "+3"):
         assert label in texts
     limit = next(line for line in svg.iter(f"{SVG}line") if line.get("class") == "chart__limit")
     shade = next(rect for rect in svg.iter(f"{SVG}rect") if rect.get("class") == "chart__unstable")

@@ -218,7 +218,8 @@ def test_each_remedy_shows_what_it_does_to_the_rollover_threshold(
     assert f"{with_bench:.4f} g" in row
     assert f"{today:.4f}" == "0.6227"  # the reference's figure for the full taxi
     assert with_bench < today  # moving load forward costs rollover margin
-    none_row = table[table.index("None") : table.index("Driver")].split()
+    empty = "Empty (no occupants)"
+    none_row = [empty, *table[table.index(empty) + len(empty) : table.index("Driver")].split()]
     assert none_row[1] == none_row[5] == "0.7277"  # no passenger: moving the bench changes nothing
 
 

@@ -56,7 +56,7 @@ def test_the_study_vehicle_gets_table_4_with_c_only_for_the_driver_alone(
     page = web.get(response.headers["location"])
     assert page.status_code == 200
     assert table_rows(page.text) == [
-        ["None", "359.00", "250.00", "0.696", "2/3 (0.667)", "-0.030", "NC Not compliant"],
+        ["Empty (no occupants)", "359.00", "250.00", "0.696", "2/3 (0.667)", "-0.030", "NC Not compliant"],
         ["Driver", "431.00", "283.49", "0.658", "2/3 (0.667)", "+0.009", "C Compliant"],
         ["Driver + 1 passenger", "503.00", "342.18", "0.680", "2/3 (0.667)", "-0.014", "NC Not compliant"],
         ["Driver + 2 passengers", "575.00", "400.87", "0.697", "2/3 (0.667)", "-0.031", "NC Not compliant"],

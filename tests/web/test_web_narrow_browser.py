@@ -295,7 +295,7 @@ def test_the_charts_labels_are_readable_and_the_maps_do_not_overlap(
     assert crossing == [], f"stability map at {width} px: labels overlap"
     limit = page.locator("#stability-map .chart__limit").first.bounding_box()
     assert limit is not None
-    points = [label for label in labels if label["text"] in ("None", "Driver", "+1", "+2", "+3")]
+    points = [label for label in labels if label["text"] in ("Empty", "Driver", "+1", "+2", "+3")]
     assert len(points) == 5
     across = [p["text"] for p in points if p["left"] < limit["x"] + limit["width"] / 2 < p["right"]]
     assert across == [], f"stability map at {width} px: point labels cross the 2/3 line"

@@ -59,7 +59,7 @@ def test_the_study_vehicle_page_says_what_would_make_it_comply(web: TestClient, 
     assert "What would make it comply" in page.text
     assert sentence(page.text) == STUDY_SENTENCE
     assert remedy_rows(page.text) == [
-        ["None", "0.696 NC", "0.624 C", "0.696 NC"],
+        ["Empty (no occupants)", "0.696 NC", "0.624 C", "0.696 NC"],
         ["Driver", "0.658 C", "0.601 C", "0.658 C"],
         ["Driver + 1 passenger", "0.680 NC", "0.628 C", "0.662 C"],
         ["Driver + 2 passengers", "0.697 NC", "0.650 C", "0.664 C"],
