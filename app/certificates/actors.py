@@ -12,9 +12,9 @@ from app.accounts.models import User
 from app.errors import ServiceError
 from app.inspections.models import Inspection
 from app.stations.models import Station
+from app.web.formatting import NOT_RECORDED
 
 COMMAND_LINE = "an administrator at the server (command line)"
-NOT_RECORDED = "not recorded"
 
 
 class Forbidden(ServiceError):

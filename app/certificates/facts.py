@@ -13,13 +13,14 @@ from typing import Any
 
 from sqlalchemy.orm import Session
 
-from app.certificates.actors import NOT_RECORDED, officer_of, station_shown_as
+from app.certificates.actors import officer_of, station_shown_as
 from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
 from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 from app.stability import case_label
 from app.stability.remedies import Advice, advice_of, size_remedies
+from app.web.formatting import NOT_RECORDED
 
 WHEEL_NAMES = {
     "front_kg": "Front wheel",
@@ -116,7 +117,7 @@ class Facts:
 
     @property
     def calibration(self) -> str:
-        """The scale's calibration in force at the weighing, or 'not recorded' when there was none."""
+        """The scale's calibration in force at the weighing, or 'Not recorded' when there was none."""
         return self.inspection.scale_calibration or NOT_RECORDED
 
     @property

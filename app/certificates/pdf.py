@@ -31,7 +31,7 @@ from app.inspections.wording import (
     verdict_mark,
 )
 from app.stability import LSF_LIMIT
-from app.web.formatting import fixed, kg, load_kg, local_time, long_date
+from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
 
 QR_BOX = 56.0  # mm: the QR code's white square, its quiet zone included
 QR_SYMBOL = 48.0  # mm: the code itself (version 8 and up; a smaller version keeps 4 modules of quiet zone)
@@ -271,8 +271,8 @@ def _particulars(pdf: Page, facts: Facts) -> None:
                 ("Registration", vehicle.registration_number),
                 ("Make", vehicle.make),
                 ("Model", vehicle.model),
-                ("Year", str(vehicle.model_year) if vehicle.model_year else "not recorded"),
-                ("Chassis number", vehicle.chassis_number or "not recorded"),
+                ("Year", str(vehicle.model_year) if vehicle.model_year else NOT_RECORDED),
+                ("Chassis number", vehicle.chassis_number or NOT_RECORDED),
             ],
         ),
         (
@@ -280,7 +280,7 @@ def _particulars(pdf: Page, facts: Facts) -> None:
             CONTENT_W - 92,
             "Inspection",
             [
-                ("Station", inspection.station or "not recorded"),
+                ("Station", inspection.station or NOT_RECORDED),
                 ("Scale calibration", facts.calibration),
                 ("Date and time", when(inspection.weighed_at)),
                 ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),

@@ -104,7 +104,7 @@ def test_an_officers_own_weighing_names_them_by_name_and_badge_on_the_pdf_and_th
     pdf = text_of(officer_web.get(f"{location}/pdf").content)
     assert f"Recorded by {SHOWN}" in pdf
     assert f"Issued by {SHOWN}" in pdf
-    assert "Scale calibration not recorded" in pdf  # weighed without a station: truly none
+    assert "Scale calibration Not recorded" in pdf  # weighed without a station: truly none
     own_header = f'<span class="header__user">{OFFICER_EMAIL}</span>'  # the signed-in officer's own
     for text in (page, pdf, officer_web.get(f"/inspections/{inspection_id}").text):
         assert OFFICER_EMAIL not in text.replace(own_header, "")
@@ -133,7 +133,7 @@ def test_a_station_weighing_issued_by_an_officer_names_both_and_prints_the_calib
 @pytest.mark.parametrize(
     ("details", "printed"),
     [
-        (StationDetails(), "Scale calibration not recorded"),
+        (StationDetails(), "Scale calibration Not recorded"),
         (
             StationDetails(calibration_valid_until=date(2099, 3, 31)),
             "Scale calibration valid until 31 March 2099 (certificate number not recorded)",
