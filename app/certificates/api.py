@@ -24,7 +24,7 @@ from app.certificates.service import issue_certificate
 from app.certificates.signing import qr_url_of
 from app.certificates.verification_examples import VERIFICATION_EXAMPLES
 from app.certificates.verify_json import payload_param, verification
-from app.certificates.wording import not_on_record
+from app.certificates.wording import in_force, not_on_record, public_status
 from app.config import get_settings
 from app.errors import NotFound
 from app.ids import InspectionId
@@ -58,10 +58,14 @@ def certificate_out(session: Session, certificate: Certificate) -> CertificateOu
     verify = f"{verify_base(settings)}/{certificate.number}"
     issuer = issuer_of(session, certificate)
     revocation = certificate.revocation
+    status = certificate_status(certificate)
+    meaning = public_status(certificate.kind, status)
     return CertificateOut(
         number=certificate.number,
         kind="compliant" if certificate.kind == "compliant" else "refusal",
-        status=certificate_status(certificate),
+        status=status,
+        document_status=meaning,
+        in_force=in_force(meaning),
         registration_number=certificate.registration_number,
         inspection_id=certificate.inspection_id,
         compliant=certificate.compliant,

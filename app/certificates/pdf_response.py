@@ -13,6 +13,7 @@ from starlette.responses import Response
 from app.certificates.models import Certificate
 from app.certificates.pdf_stamp import stamp_of, stamped_pdf
 from app.certificates.records import certificate_pdf, certificate_status, verify_base
+from app.certificates.wording import public_status
 from app.config import get_settings
 
 # certified, refused (in force), revoked, superseded or expired: what the paper shows, in the words
@@ -27,13 +28,6 @@ def etag_matches(if_none_match: str | None, etag: str) -> bool:
         return False
     tags = [tag.strip().removeprefix("W/") for tag in if_none_match.split(",")]
     return "*" in tags or etag in tags
-
-
-def document_status(kind: str, status: str) -> str:
-    """The status a machine reads: certified or refused while in force, else revoked, superseded, expired."""
-    if status == "issued":
-        return "certified" if kind == "compliant" else "refused"
-    return status
 
 
 def pdf_filename(number: str, status: str) -> str:
@@ -54,7 +48,7 @@ def pdf_response(session: Session, certificate: Certificate, if_none_match: str 
     headers = {
         "ETag": etag,
         "Cache-Control": "private, no-cache",
-        STATUS_HEADER: document_status(certificate.kind, status),
+        STATUS_HEADER: public_status(certificate.kind, status),
         ORIGINAL_HEADER: certificate.pdf_sha256,
     }
     if etag_matches(if_none_match, etag):

@@ -30,8 +30,15 @@ class CertificateOut(BaseModel):
     number: str = Field(examples=[EXAMPLE_NUMBER])
     kind: Literal["compliant", "refusal"]
     status: Literal["issued", "revoked", "superseded", "expired"] = Field(
-        description="Computed now: revoked, superseded, expired (past `expires_at`) or issued."
+        description="The record's state, computed now: revoked, superseded, expired (past `expires_at`) "
+        "or issued. A refusal is issued too: read `document_status` or `in_force` to know what the paper "
+        "means."
     )
+    document_status: Literal["certified", "refused", "revoked", "superseded", "expired"] = Field(
+        description="What the paper means now, as the public verification says it: certified (a "
+        "certificate in force), refused (a refusal that stands), revoked, superseded or expired."
+    )
+    in_force: bool = Field(description="True only for a certificate that certifies the vehicle now.")
     registration_number: str
     inspection_id: int
     compliant: bool

@@ -77,6 +77,26 @@ def test_a_new_inspection_supersedes_the_old_certificate_and_an_older_one_cannot
     assert refused.json()["errors"][0]["rule"] == "newer_certified"
 
 
+def test_the_station_api_says_what_each_paper_means_beside_the_records_state(api: TestClient) -> None:
+    """A refusal's record is issued, but it certifies nothing: a machine reads document_status/in_force."""
+    refusal = study_certificate(api)
+    assert (refusal["status"], refusal["document_status"], refusal["in_force"]) == (
+        "issued",
+        "refused",
+        False,
+    )
+    register(api, FRONT_HEAVY)
+    old = certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    assert (old["status"], old["document_status"], old["in_force"]) == ("issued", "certified", True)
+    certify(api, weigh(api, "KTU-417-XA", FRONT_HEAVY_READINGS))
+    again = api.get(f"/api/v1/certificates/{old['number']}").json()
+    assert (again["status"], again["document_status"], again["in_force"]) == (
+        "superseded",
+        "superseded",
+        False,
+    )
+
+
 def test_a_station_cannot_certify_another_stations_inspection(api: TestClient, session: Session) -> None:
     register(api)
     inspection_id = weigh(api)
