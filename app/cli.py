@@ -60,6 +60,9 @@ def cmd_serve(args: argparse.Namespace) -> int:
         host=args.host,
         port=args.port,
         workers=args.workers,
+        # uvicorn kills a worker that has not answered its supervisor's ping in 5 s; a worker still
+        # importing on a busy host is not hung, so it gets longer before it is killed and restarted.
+        timeout_worker_healthcheck=30,
         # X-Forwarded-Proto/-For count only from the proxies named in TRIKECERT_FORWARDED_ALLOW_IPS.
         proxy_headers=bool(proxies),
         forwarded_allow_ips=proxies or None,
