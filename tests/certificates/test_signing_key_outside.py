@@ -87,8 +87,8 @@ def test_the_key_file_is_made_on_first_use_readable_by_the_service_alone_and_sig
     assert body["key_id"] == kid_of(okp_key(key))
     published = client.get("/.well-known/trikecert-keys.json").json()["keys"]
     assert [(k["kid"], k["x"]) for k in published] == [(body["key_id"], public_jwk(okp_key(key))["x"])]
-    assert client.get(f"/api/v1/verify/{body['number']}").json()["status"] == "valid"
-    assert main(["verify", body["qr_payload"]]) == 0
+    assert client.get(f"/api/v1/verify/{body['number']}").json()["status"] == "refused"
+    assert main(["verify", body["qr_payload"]]) == 3  # genuine (1 if not), but a refusal certifies nothing
     assert f"GENUINE: signed by key {body['key_id']}" in capsys.readouterr().out
 
 
@@ -132,7 +132,8 @@ def test_rotation_retires_the_key_and_destroys_its_private_half(
     assert not keys[first["key_id"]].active
     assert keys[first["key_id"]].retired_at is not None
     assert keys[new_kid].active
-    assert main(["verify", first["qr_payload"]]) == 0  # by the retired key's public half, still published
+    # Genuine by the retired key's public half, still published (3: genuine, but a refusal; 1: forged)
+    assert main(["verify", first["qr_payload"]]) == 3
     assert f"GENUINE: signed by key {first['key_id']}" in capsys.readouterr().out
     assert study_certificate_again(api)["key_id"] == new_kid
 

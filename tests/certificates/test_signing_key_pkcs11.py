@@ -100,7 +100,7 @@ def test_the_token_signs_certificates_and_checkpoints_and_rotation_destroys_the_
     private = store.current().private
     assert private[pkcs11.Attribute.SENSITIVE]
     assert not private[pkcs11.Attribute.EXTRACTABLE]  # the token never hands the key out
-    assert main(["verify", body["qr_payload"]]) == 0
+    assert main(["verify", body["qr_payload"]]) == 3  # genuine (1 if not), but a refusal certifies nothing
     assert f"GENUINE: signed by key {body['key_id']}" in capsys.readouterr().out
 
     assert main(["audit-verify"]) == 0
@@ -118,7 +118,7 @@ def test_the_token_signs_certificates_and_checkpoints_and_rotation_destroys_the_
     assert token_keys(store.token) == ["trikecert-signing"]  # one key: the old one is gone from the token
     assert store.current().kid == new_kid
     assert certify(api, weigh(api))["key_id"] == new_kid
-    assert main(["verify", body["qr_payload"]]) == 0  # the old certificate, by its published public key
+    assert main(["verify", body["qr_payload"]]) == 3  # the old refusal, genuine by its published public key
     assert main(["audit-verify"]) == 0  # the old checkpoint still checks; a new one is signed on the token
     assert not key_file_untouched.exists()
 
