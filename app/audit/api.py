@@ -10,6 +10,7 @@ from fastapi import APIRouter, Query, Response
 from pydantic import BaseModel, ConfigDict, Field
 from sqlalchemy import select
 
+from app.api.errors import error_responses
 from app.audit.checkpoint import newest_checkpoint
 from app.audit.models import AuditCheckpoint
 from app.errors import NotFound
@@ -83,7 +84,11 @@ def audit_head(session: SessionDep, response: Response) -> AuditHead:
     return AuditHead.of(checkpoint)
 
 
-@router.get("/audit/checkpoints", summary="Every signed checkpoint of the audit log, oldest first (public)")
+@router.get(
+    "/audit/checkpoints",
+    summary="Every signed checkpoint of the audit log, oldest first (public)",
+    responses=error_responses(422),
+)
 def audit_checkpoints(
     session: SessionDep,
     response: Response,
