@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import re
 from datetime import UTC, date, datetime, time, timedelta
 from decimal import ROUND_HALF_EVEN, Decimal
 from fractions import Fraction
 from functools import lru_cache
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
+
+from markupsafe import Markup, escape
 
 from app.config import get_settings
 from app.stability import LSF_LIMIT
@@ -60,6 +63,18 @@ def or_not_recorded(value: object) -> object:
 def unbroken(text: str) -> str:
     """A message for a page, each percentage kept on one line with its figure: '10.5\u00a0%'."""
     return text.replace(" %", "\u00a0%")
+
+
+_PLATE_VALUE = re.compile(r'"registration(?:_number)?":\s*"([^"\\]+)"')
+
+
+def plates_kept(details: str) -> Markup:
+    """An audit event's details as text, each registration held on one line (never 'LAG 888 / YB')."""
+    plates = {match.group(1) for match in _PLATE_VALUE.finditer(details)}
+    shown = escape(details)
+    for plate in sorted(plates, key=len, reverse=True):
+        shown = shown.replace(escape(plate), Markup('<span class="plate">{}</span>').format(plate))
+    return shown
 
 
 def limit_text() -> str:

@@ -34,6 +34,7 @@ _env.filters.update(
     load_kg=formatting.load_kg,
     long_date=formatting.long_date,
     unbroken=formatting.unbroken,
+    plates_kept=formatting.plates_kept,
     or_not_recorded=formatting.or_not_recorded,
 )
 _env.globals.update(
