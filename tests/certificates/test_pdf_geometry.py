@@ -43,7 +43,7 @@ CHART_WORDS = re.compile(
 )
 # The stability map's own words (estimates beyond the static test).
 MAP_WORDS = re.compile(
-    r"^(Rollover|threshold|\(g\)|Circle:|C\.|Cross:|NC\.|Shaded:|yaw-unstable\.|limit|2/3|LSF|None|Driver|"
+    r"^(Rollover|threshold|\(g\)|Circle:|C\.|Cross:|NC\.|Shaded:|yaw-unstable\.|limit|2/3|LSF|Empty|Driver|"
     r"\+\d+|minimum|g|\d\.\d\d?)$"
 )
 REGION_WORDS = {"chart": CHART_WORDS, "map": MAP_WORDS}
