@@ -20,9 +20,9 @@ from app.certificates.cli import add_certificate_commands
 from app.config import get_settings, settings_problems, trusted_proxies
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
-from app.inspections.wording import verdict_mark
 from app.stations.details import StationDetails, details_of
 from app.stations.models import Station
+from app.wording import verdict_mark
 
 
 def cmd_migrate(_args: argparse.Namespace) -> int:
@@ -339,8 +339,8 @@ def build_parser() -> argparse.ArgumentParser:
 def cmd_audit_verify(_args: argparse.Namespace) -> int:
     """Check the audit log's hash chain from the first event and sign its head; exit 1 when it was
     tampered with."""
-    from app.audit.checkpoint import record_checkpoint
-    from app.audit.service import verify_log
+    from app.audit_log.checkpoint import record_checkpoint
+    from app.audit_log.service import verify_log
 
     with get_sessionmaker()() as session:
         report = verify_log(session)

@@ -14,8 +14,8 @@ import app.models  # noqa: F401  (every table known to the mapper, whichever rou
 from app import __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
-from app.api.router import api_router, hot_router
 from app.certificates.public import public_router
+from app.composition import api_router, hot_router, page_routers
 from app.config import get_settings
 from app.ops.docs import install_docs
 from app.ops.health import router as health_router
@@ -69,7 +69,7 @@ def create_app() -> FastAPI:
     app.include_router(public_router)
     app.include_router(metrics_router)
     install_docs(app)
-    install_web(app)  # the officer pages; after the API's error handlers
+    install_web(app, page_routers)  # the officer pages; after the API's error handlers
     app.add_middleware(RequestContext)
     install_security_headers(app)
     install_liveness_first(app)  # outermost: a probe meets none of the above

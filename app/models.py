@@ -1,6 +1,6 @@
 """Imports every ORM model so the metadata is complete (for Alembic and the tests)."""
 
-import app.audit.recorder  # noqa: F401  (the audit listener on every session)
+import app.audited  # noqa: F401  (the audit listener on every session, told which records to follow)
 from app.accounts.models import LoginAttempt, LoginThrottle, RecoveryCode, User, UserSession
 from app.audit.models import AuditEvent
 from app.certificates.models import (

@@ -9,8 +9,8 @@ from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
 
-from app.audit.checkpoint import record_checkpoint
-from app.audit.service import verify_log
+from app.audit_log.checkpoint import record_checkpoint
+from app.audit_log.service import verify_log
 from app.certificates.actors import Actor
 from app.certificates.keys import rotate_signing_key
 from app.certificates.service import revoke_certificate

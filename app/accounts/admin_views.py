@@ -7,6 +7,7 @@ from fastapi import APIRouter
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import AdminLogin, AdminPost, ConfirmedAdminPost
 from app.accounts.service import (
     MAX_PASSWORD_LENGTH,
     ROLES,
@@ -20,7 +21,7 @@ from app.accounts.service import (
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
 from app.ids import UserId
-from app.web.deps import AdminLogin, AdminPost, ConfirmedAdminPost, FormDep, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, secret, text
 from app.web.templating import render
 

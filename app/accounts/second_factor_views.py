@@ -9,13 +9,14 @@ from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts import second_factor
+from app.accounts.deps import ConfirmedAdminPost, PendingLogin, PendingPost
 from app.accounts.service import get_user
 from app.accounts.sessions import set_flash
 from app.accounts.views import safe_next
 from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import UserId
-from app.web.deps import ConfirmedAdminPost, FormDep, PendingLogin, PendingPost, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, text
 from app.web.templating import render
 

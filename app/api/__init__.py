@@ -1,1 +1,1 @@
-"""What every API route shares: error bodies, the body-size limit, the /api/v1 router."""
+"""What every API route shares: error bodies, strict JSON, the body-size and per-address limits."""

@@ -17,7 +17,7 @@ import time
 
 from starlette.types import Scope
 
-from app.stations.rate_limit import RateLimit, seconds_left, window_start
+from app.api.windows import RateLimit, seconds_left, window_start
 
 # Beyond this many addresses in one window, new ones are not counted: memory stays bounded, and a
 # client holding that many addresses is not one a per-address limit could stop anyway.

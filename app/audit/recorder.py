@@ -21,15 +21,9 @@ from typing import Any
 from sqlalchemy import Connection, event, insert, inspect, select, text
 from sqlalchemy.orm import Session, UOWTransaction
 
-from app.accounts.models import LoginAttempt, User
 from app.audit.chain import GENESIS, EventFields, canonical_json, event_hash
 from app.audit.models import AuditEvent
-from app.certificates.models import Certificate, CertificateRevocation, SigningKey
 from app.db import REQUEST_ORIGIN_KEY, utcnow
-from app.stations.models import Station
-from app.type_assessments.models import TypeAssessmentRecord
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
-from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain
 ACTOR_KEY = "trikecert_actor"
@@ -84,25 +78,21 @@ class Audited:
     recorded: tuple[str, ...]  # the columns shown when it is created
     target_id: Callable[[Any], Any]
     secret: frozenset[str] = frozenset()  # columns whose values never enter the log
+    created_action: Callable[[Any], str] | None = None  # the event of a new record, if not "<type>.created"
+    # Written before its row: the database refuses the row (a certificate, a revocation) whose
+    # event is not there (SQLite checks at the INSERT, having no check at commit).
+    event_first: bool = False
 
 
-AUDITED: dict[type[Any], Audited] = {
-    User: Audited(
-        "user", ("email", "role", "active"), lambda r: r.id, frozenset({"password_hash", "totp_secret"})
-    ),
-    Station: Audited("station", ("name", "active"), lambda r: r.id, frozenset({"key_hash"})),
-    Vehicle: Audited("vehicle", ("registration_number", "make", "model"), lambda r: r.registration_number),
-    VehicleDynamicsRevision: Audited(
-        "vehicle", ("revision", *DYNAMICS_FIELDS, "seat_heights_m"), lambda r: r.vehicle.registration_number
-    ),
-    SigningKey: Audited("signing_key", ("kid", "source", "active"), lambda r: r.kid),
-    Certificate: Audited("certificate", ("kind", "registration_number", "inspection_id"), lambda r: r.number),
-    CertificateRevocation: Audited("certificate", ("reason",), lambda r: r.certificate.number),
-    LoginAttempt: Audited("user", ("email", "client_ip"), lambda r: r.user_id),
-    TypeAssessmentRecord: Audited(
-        "type_assessment", ("make", "model", "model_year", "vehicle_count", "compliant"), lambda r: r.id
-    ),
-}
+# Filled by the composition (app/audited.py): the recorder knows no capability's models.
+AUDITED: dict[type[Any], Audited] = {}
+
+
+def audit(model: type[Any], audited: Audited) -> None:
+    """Record every new, changed or deleted `model` row as an event, as `audited` says."""
+    AUDITED[model] = audited
+
+
 # A change of these columns names the event; other changes are "<type>.changed".
 NAMED_CHANGES = {"key_hash": "key_rotated", "password_hash": "password_changed", "retired_at": "retired"}
 
@@ -113,14 +103,8 @@ def _value(value: Any) -> Any:
 
 def _created(record: Any, audited: Audited) -> tuple[str, dict[str, Any]]:
     details = {name: _value(getattr(record, name)) for name in audited.recorded}
-    if isinstance(record, LoginAttempt):
-        return f"sign_in.{record.outcome}", details
-    if isinstance(record, Certificate):
-        return ("refusal" if record.kind == "refusal" else "certificate") + ".issued", details
-    if isinstance(record, CertificateRevocation):
-        return "certificate.revoked", details
-    if isinstance(record, VehicleDynamicsRevision):
-        return "vehicle.dynamics_recorded", details
+    if audited.created_action is not None:
+        return audited.created_action(record), details
     return f"{audited.target_type}.created", details
 
 
@@ -149,16 +133,11 @@ def _changed(record: Any, audited: Audited) -> tuple[str, dict[str, Any]] | None
     return f"{audited.target_type}.{named or 'changed'}", details
 
 
-# Their events are written before their rows: the database refuses a certificate or a revocation
-# whose event is not there (SQLite checks at the INSERT, having no check at commit).
-EVENT_FIRST: tuple[type[Any], ...] = (Certificate, CertificateRevocation)
-
-
 def _created_events(session: Session, *, first: bool) -> list[tuple[Audited, Any, str, dict[str, Any]]]:
     found: list[tuple[Audited, Any, str, dict[str, Any]]] = []
     for record in session.new:
         audited = AUDITED.get(type(record))
-        if audited is not None and isinstance(record, EVENT_FIRST) == first:
+        if audited is not None and audited.event_first == first:
             found.append((audited, record, *_created(record, audited)))
     return found
 

@@ -53,8 +53,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     from app.certificates.records import verify_base
     from app.certificates.signing import PayloadRefused, verify_input
     from app.certificates.wording import in_force, status_meaning
-    from app.inspections.wording import document_kind, occupancy_sentence
     from app.web.formatting import long_date
+    from app.wording import document_kind, occupancy_sentence
 
     keys = load_keys(args.keys)
     try:
@@ -130,7 +130,7 @@ def cmd_issue(args: argparse.Namespace) -> int:
     """Issue the certificate of an inspection as an administrator."""
     from app.certificates.actors import Actor
     from app.certificates.service import issue_certificate
-    from app.inspections.wording import issued_message
+    from app.wording import issued_message
 
     with get_sessionmaker()() as session:
         issued = issue_certificate(
@@ -158,7 +158,7 @@ def cmd_revoke(args: argparse.Namespace) -> int:
     """Revoke a certificate for good, with a reason, recorded as done by cli:<os user>."""
     from app.certificates.actors import Actor
     from app.certificates.service import revoke_certificate
-    from app.inspections.wording import revoked_message
+    from app.wording import revoked_message
 
     with get_sessionmaker()() as session:
         certificate = revoke_certificate(

@@ -17,10 +17,10 @@ from app.certificates.actors import officer_of, station_shown_as
 from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
-from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 from app.stability import case_label
 from app.stability.remedies import Advice, advice_of, size_remedies
 from app.web.formatting import NOT_RECORDED
+from app.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 
 WHEEL_NAMES = {
     "front_kg": "Front wheel",

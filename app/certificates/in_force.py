@@ -13,7 +13,7 @@ from app.certificates.models import Certificate
 from app.certificates.records import Status, certificate_status
 from app.certificates.service import _current_of_vehicle
 from app.inspections.models import Inspection
-from app.inspections.wording import document_kind
+from app.wording import document_kind
 
 
 @dataclass(frozen=True)

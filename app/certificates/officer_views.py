@@ -9,6 +9,7 @@ from sqlalchemy.orm import Session, object_session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import ConfirmedAdminPost, CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.certificates.actors import Actor, issued_by, recorded_by
 from app.certificates.facts import Facts
@@ -21,10 +22,10 @@ from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import InspectionId
 from app.inspections.models import Inspection
-from app.inspections.wording import document_kind, issued_message, revoked_message
-from app.web.deps import ConfirmedAdminPost, CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, text
 from app.web.templating import render
+from app.wording import document_kind, issued_message, revoked_message
 
 router = APIRouter(include_in_schema=False)
 NumberPath = Annotated[str, Path(max_length=60)]

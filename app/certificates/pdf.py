@@ -22,7 +22,9 @@ from app.certificates.chart import Box, chart_height, draw_chart
 from app.certificates.dynamics_pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
-from app.inspections.wording import (
+from app.stability import LSF_LIMIT
+from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
+from app.wording import (
     case_name,
     document_headline,
     document_kind,
@@ -30,8 +32,6 @@ from app.inspections.wording import (
     rules_words,
     verdict_mark,
 )
-from app.stability import LSF_LIMIT
-from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
 
 QR_BOX = 56.0  # mm: the QR code's white square, its quiet zone included
 QR_SYMBOL = 48.0  # mm: the code itself (version 8 and up; a smaller version keeps 4 modules of quiet zone)

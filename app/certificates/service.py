@@ -31,9 +31,9 @@ from app.db import utcnow
 from app.errors import Conflict, InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
-from app.inspections.wording import document_kind, verdict_mark
 from app.stations.scale import CalibrationRefused
 from app.text import checked
+from app.wording import document_kind, verdict_mark
 
 REASON_LENGTH = 1000
 

@@ -8,6 +8,7 @@ from fastapi import APIRouter, Path, Query
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app import wording
 from app.certificates.keys import published_keys
 from app.certificates.models import Certificate
 from app.certificates.numbers import InvalidNumber, parse_number
@@ -25,7 +26,6 @@ from app.certificates.wording import (
 )
 from app.config import get_settings
 from app.errors import NotFound
-from app.inspections import wording
 from app.text import without_refused
 from app.web.deps import SessionDep
 from app.web.formatting import long_date

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from app.inspections.wording import QR_GENUINE, QR_NOT_GENUINE, document_kind
+from app.wording import QR_GENUINE, QR_NOT_GENUINE, document_kind
 
 PublicStatus = Literal["certified", "refused", "revoked", "superseded", "expired"]
 QrTone = Literal["genuine", "forged", "refused", "revoked", "lapsed"]

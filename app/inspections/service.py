@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from datetime import date, datetime
 from decimal import Decimal
 from functools import lru_cache
-from typing import Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from sqlalchemy import ColumnElement, Select, bindparam, func, select
 from sqlalchemy.orm import Session
@@ -39,8 +39,6 @@ from app.stations.scale import (
     check_settled,
     configured_scale_rules,
 )
-from app.statistics.matching import count_matching
-from app.statistics.stored import stored_zone
 from app.vehicles.dynamics_service import current_revision
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile
@@ -277,7 +275,7 @@ def _count(session: Session, where: InspectionFilter, values: dict[str, Any], *,
     if _names_a_vehicle(names):
         query = _from_inspections(select(func.count()).select_from(Inspection), names)
         return int(session.scalar(query.where(*_conditions(names)), values) or 0)
-    return count_matching(
+    return _match_counter(
         session,
         conditions=_conditions(names),
         values=values,
@@ -285,9 +283,52 @@ def _count(session: Session, where: InspectionFilter, values: dict[str, Any], *,
         until=where.until,
         compliant=where.compliant,
         station_id=where.station_id,
-        zone=stored_zone(),
         now=now,
     )
+
+
+class MatchCounter(Protocol):
+    """Counts the inspections `conditions` match (on bound parameters `values`); `since`, `until`,
+    `compliant` and `station_id` are the filter's own, `now` decides which days are closed."""
+
+    def __call__(
+        self,
+        session: Session,
+        *,
+        conditions: Sequence[ColumnElement[bool]],
+        values: Mapping[str, Any],
+        since: datetime | None,
+        until: datetime | None,
+        compliant: bool | None,
+        station_id: int | None,
+        now: datetime,
+    ) -> int: ...
+
+
+def _count_from_records(
+    session: Session,
+    *,
+    conditions: Sequence[ColumnElement[bool]],
+    values: Mapping[str, Any],
+    since: datetime | None,
+    until: datetime | None,
+    compliant: bool | None,
+    station_id: int | None,
+    now: datetime,
+) -> int:
+    query = select(func.count()).select_from(Inspection).where(*conditions)
+    return int(session.scalar(query, dict(values)) or 0)
+
+
+# The statistics package counts from its stored days (app/statistics/matching.py); it lies above this
+# one, so the composition root passes its counter in (count_matches_with).
+_match_counter: MatchCounter = _count_from_records
+
+
+def count_matches_with(counter: MatchCounter) -> None:
+    """Count the inspections a list's filter matches with `counter` from now on."""
+    global _match_counter
+    _match_counter = counter
 
 
 _SHOWN = len(fields(ListedInspection))  # the page's first columns, after them its `total`

@@ -31,6 +31,7 @@ from sqlalchemy.exc import IntegrityError
 from starlette.types import Scope
 
 from app.api.validation import validated_body
+from app.api.windows import RateLimit, window_start
 from app.config import get_settings
 from app.db import autocommit, get_engine
 from app.group_commit import write_and_commit
@@ -45,7 +46,7 @@ from app.inspections.service import decide
 from app.inspections.store import KeptAnswer, draw_inspection_id, store_record
 from app.stations.deps import refused_key
 from app.stations.on_file import StationOnFile
-from app.stations.rate_limit import RateLimit, check_count, window_start
+from app.stations.rate_limit import check_count
 from app.stations.scale import configured_scale_rules
 from app.stations.service import hash_key
 from app.vehicles.on_file import VehicleOnFile

@@ -11,29 +11,24 @@ from sqlalchemy.orm import Session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
-from app.certificates.actors import issued_by, recorded_by
-from app.certificates.facts import calibration_words
-from app.certificates.in_force import why_not_issuable
-from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
-from app.ids import IdChoice, InspectionId, PageNumber, parse_id
-from app.inspections.dynamics_views import dynamics_context
+from app.ids import IdChoice, PageNumber, parse_id
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
-from app.inspections.remedy_page import remedies_context
-from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
-from app.inspections.wording import case_name, occupancy_sentence, verdict_sentence
+from app.inspections.service import InspectionFilter, list_inspections, record_inspection
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
 from app.web import submissions
 from app.web.chart import ChartPoint, lsf_chart, short_label
-from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.formatting import day_bounds, local_today, long_date
 from app.web.forms import FormErrors, query_text, read_date
 from app.web.templating import render
+from app.wording import case_name, occupancy_sentence, verdict_sentence
 
 router = APIRouter(include_in_schema=False)
 
@@ -140,15 +135,6 @@ def table_rows(inspection: Inspection) -> list[dict[str, Any]]:
     ]
 
 
-def raw_readings(inspection: Inspection) -> dict[str, list[str]]:
-    """The base weighing's readings per wheel, as typed."""
-    found: dict[str, list[str]] = {}
-    for reading in inspection.readings:
-        if reading.case_occupants == 0:
-            found.setdefault(reading.wheel, []).append(f"{reading.value_kg.normalize():f}")
-    return found
-
-
 def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
     """What the result partial shows: Table 4, the verdict in words, the occupancy and the chart."""
     cases = inspection.loading_cases
@@ -164,39 +150,6 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
         "occupancy": occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
         "chart": lsf_chart(points),
     }
-
-
-@router.get("/inspections/{inspection_id}")
-def inspection_page(
-    request: Request, session: SessionDep, login: CurrentLogin, inspection_id: InspectionId
-) -> Response:
-    """Table 4, the verdict in words, the certified occupancy, the chart and what would make it comply."""
-    inspection = get_inspection(session, inspection_id)
-    context = result_context(session, inspection)
-    remedies, remedy_errors = (
-        (None, None) if inspection.compliant else remedies_context(inspection, request.query_params)
-    )
-    certificates = certificates_of_inspection(session, inspection.id)
-    context.update(dynamics_context(inspection))
-    context.update(
-        recorded_by=recorded_by(session, inspection),
-        calibration=calibration_words(inspection.calibration_certificate, inspection.calibration_valid_until),
-        raw=raw_readings(inspection),
-        certificates=certificates,
-        not_issuable=why_not_issuable(session, inspection),
-        issuers={
-            certificate.id: issued_by(
-                session,
-                user_id=certificate.issued_by_user_id,
-                station_id=certificate.issued_by_station_id,
-                label=certificate.issued_by,
-            )
-            for certificate, _status in certificates
-        },
-        remedies=remedies,
-        errors=remedy_errors.messages if remedy_errors else {},
-    )
-    return render(request, "inspections/show.html", context, status_code=422 if remedy_errors else 200)
 
 
 VERDICTS = {"": None, "compliant": True, "not-compliant": False}

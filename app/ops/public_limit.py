@@ -12,8 +12,9 @@ from starlette.responses import JSONResponse, Response
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from app.api.address_limits import client_address, windows
+from app.api.windows import RateLimit
 from app.config import get_settings
-from app.stations.rate_limit import RATE_LIMIT_RULE, RateLimit
+from app.stations.rate_limit import RATE_LIMIT_RULE
 
 # What anyone may ask without signing in: the verify form and pages, the QR codes' short addresses,
 # the JSON verification, and the service's public files under /.well-known/ (the published keys; a

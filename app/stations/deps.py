@@ -11,12 +11,13 @@ from sqlalchemy.orm import Session
 from starlette.types import Scope
 
 from app.api.address_limits import client_address, windows
+from app.api.windows import RateLimit
 from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.db import get_session
 from app.errors import ServiceError
 from app.stations.models import Station
-from app.stations.rate_limit import RATE_LIMIT_RULE, RateLimit, authenticate_and_count
+from app.stations.rate_limit import RATE_LIMIT_RULE, authenticate_and_count
 
 BEARER_SCHEME = "HTTPBearer"  # the security scheme's name in OpenAPI
 bearer = HTTPBearer(

@@ -10,9 +10,7 @@ on SQLite it takes the writer's turn (app.db.begin_write) for that statement and
 
 from __future__ import annotations
 
-import math
 import time
-from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
@@ -21,20 +19,13 @@ from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.orm import Session, make_transient_to_detached
 
 from app.api.errors import ErrorOut
+from app.api.windows import RateLimit, seconds_left, window_start
 from app.db import begin_write
 from app.errors import ServiceError
 from app.stations.models import Station, StationRateWindow
 from app.stations.service import authenticate_station, hash_key
 
 RATE_LIMIT_RULE = "rate_limit"
-
-
-@dataclass(frozen=True)
-class RateLimit:
-    """At most `limit` requests per `window_seconds` per station key; a limit of 0 is no limit."""
-
-    limit: int
-    window_seconds: int
 
 
 class RateLimited(ServiceError):
@@ -75,21 +66,11 @@ def _upsert(session: Session, station_id: int, window_start: int) -> Any:
     return on_conflict_count(insert(StationRateWindow).values(**values))
 
 
-def window_start(limit: RateLimit, now: float) -> int:
-    """Unix seconds at which the window holding `now` opened."""
-    return int(now // limit.window_seconds) * limit.window_seconds
-
-
 def check_count(limit: RateLimit, count: int, started: int, now: float) -> None:
     """RateLimited (429, with Retry-After) when `count` requests in the window opened at `started`
     are over the limit."""
     if count > limit.limit:
         raise RateLimited(limit, seconds_left(limit, started, now))
-
-
-def seconds_left(limit: RateLimit, started: int, now: float) -> int:
-    """Whole seconds (at least 1) until the window opened at `started` closes: the Retry-After."""
-    return max(1, math.ceil(started + limit.window_seconds - now))
 
 
 def _count_in_session(session: Session, *, station_id: int, limit: RateLimit, now: float) -> None:

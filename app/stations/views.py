@@ -21,6 +21,7 @@ from starlette.datastructures import FormData
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import AdminLogin, AdminPost, ConfirmedAdminPost
 from app.accounts.models import UserSession
 from app.accounts.sessions import set_flash
 from app.config import Settings, get_settings
@@ -37,7 +38,7 @@ from app.stations.service import (
     update_station,
 )
 from app.web import submissions
-from app.web.deps import AdminLogin, AdminPost, ConfirmedAdminPost, FormDep, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, ascii_digits, parse_decimal, text
 from app.web.templating import render
 

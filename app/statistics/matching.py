@@ -62,6 +62,32 @@ def count_matching(
     return before + _stored_sum(session, zone, first, last, compliant, station_id) + after
 
 
+def count_matching_inspections(
+    session: Session,
+    *,
+    conditions: Sequence[ColumnElement[bool]],
+    values: Mapping[str, Any],
+    since: datetime | None,
+    until: datetime | None,
+    compliant: bool | None,
+    station_id: int | None,
+    now: datetime,
+) -> int:
+    """count_matching in the zone whose days are stored (the display zone): the counter a list of
+    inspections uses (app/inspections/service.py, count_matches_with)."""
+    return count_matching(
+        session,
+        conditions=conditions,
+        values=values,
+        since=since,
+        until=until,
+        compliant=compliant,
+        station_id=station_id,
+        zone=stored.stored_zone(),
+        now=now,
+    )
+
+
 def _first_time(session: Session) -> datetime | None:
     return session.scalar(select(func.min(Inspection.created_at)))
 

@@ -10,11 +10,12 @@ from sqlalchemy import select
 from starlette.requests import Request
 from starlette.responses import Response
 
+from app.accounts.deps import CurrentLogin
 from app.ids import IdChoice, parse_id
 from app.stations.models import Station
 from app.statistics.by_model import model_counts
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
-from app.web.deps import CurrentLogin, SessionDep
+from app.web.deps import SessionDep
 from app.web.formatting import local_today, local_zone
 from app.web.forms import FormErrors, query_text, read_date
 from app.web.spreadsheet import Cell, csv_download

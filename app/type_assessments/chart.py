@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 from markupsafe import Markup
 
-from app.inspections.wording import occupancy
 from app.stability import LSF_LIMIT
 from app.web.chart import (
     Plot,
@@ -23,6 +22,7 @@ from app.web.chart import (
     polyline,
     short_label,
 )
+from app.wording import occupancy
 
 TITLE = "Each vehicle's LSF per loading case, the type's mean and 95 % upper bound, against the 2/3 limit"
 MEAN_COLOUR, BOUND_COLOUR = "#1d70b8", "#912b88"

@@ -10,12 +10,12 @@ from sqlalchemy.orm import Session
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import TypeAssessmentId
 from app.inspections.models import Inspection
-from app.inspections.wording import case_name, type_occupancy_sentence, verdict_sentence
 from app.type_assessments.chart import SpreadPoint, spread_chart
 from app.type_assessments.models import TypeAssessmentRecord
 from app.type_assessments.service import (
@@ -26,9 +26,10 @@ from app.type_assessments.service import (
     known_models,
 )
 from app.web import submissions
-from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, query_text, readable
 from app.web.templating import render
+from app.wording import case_name, type_occupancy_sentence, verdict_sentence
 
 router = APIRouter(include_in_schema=False)
 FIELDS = ("make", "model", "model_year")

@@ -1,4 +1,4 @@
-"""Vehicle pages: register one with its seat layout, find one by registration, its page and history."""
+"""Vehicle pages: register one with its seat layout, find one by registration (its page: app/pages)."""
 
 from __future__ import annotations
 
@@ -8,22 +8,18 @@ from fastapi import APIRouter, Query
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
-from app.certificates.in_force import current_document
 from app.config import get_settings
-from app.errors import Conflict, NotFound, ServiceError
-from app.inspections.service import InspectionFilter, get_inspection, list_inspections
-from app.inspections.views import result_context
+from app.errors import Conflict, ServiceError
 from app.text import without_refused
-from app.vehicles.dynamics_views import figures_rows
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
-from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, query_text
 from app.web.templating import render
 
 router = APIRouter(prefix="/vehicles", include_in_schema=False)
-HISTORY_LENGTH = 20
 
 
 @router.get("/find")
@@ -102,37 +98,4 @@ def register(request: Request, session: SessionDep, login: PostLogin, form: Form
             "conflict_key": conflict_key,
         },
         status_code=422,
-    )
-
-
-@router.get("/{registration_key}")
-def vehicle_page(
-    request: Request, session: SessionDep, login: CurrentLogin, registration_key: str
-) -> Response:
-    """The vehicle: its document in force and latest verdict first, then its particulars, seats and
-    figures, then its inspection history."""
-    vehicle = find_vehicle(session, registration_key)
-    if vehicle is None:
-        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
-    if registration_key != vehicle.registration_key:
-        return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
-    inspections, total = list_inspections(
-        session,
-        where=InspectionFilter(registration_number=vehicle.registration_key),
-        limit=HISTORY_LENGTH,
-        offset=0,
-    )
-    return render(
-        request,
-        "vehicles/show.html",
-        {
-            "vehicle": vehicle,
-            "inspections": inspections,
-            "total": total,
-            "figures": figures_rows(vehicle),
-            "current": current_document(session, vehicle.id),
-            "latest": result_context(session, get_inspection(session, inspections[0].id))
-            if inspections
-            else None,
-        },
     )

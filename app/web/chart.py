@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 from markupsafe import Markup, escape
 
-from app.inspections.wording import verdict_mark
 from app.stability import LSF_LIMIT
+from app.wording import verdict_mark
 
 WIDTH, HEIGHT = 480, 340
 LEFT, RIGHT, TOP, BOTTOM = 62, 86, 20, 60  # the right margin holds the label of the limit line

@@ -1,4 +1,5 @@
-"""Page dependencies: the database session, the signed-in officer, the posted form and its CSRF check."""
+"""What every page's route shares: the database session, the posted form, and the refusals a page
+dependency raises (answered as HTML by app/web/errors.py). Who is signed in: app/accounts/deps.py."""
 
 from __future__ import annotations
 
@@ -9,16 +10,7 @@ from sqlalchemy.orm import Session
 from starlette.datastructures import FormData
 from starlette.requests import Request
 
-from app.accounts import reauth, second_factor
-from app.accounts.models import UserSession
-from app.accounts.sessions import load_session, pop_flash
-from app.audit.recorder import Actor, act_as
-from app.config import get_settings
 from app.db import get_session
-from app.errors import ServiceError
-from app.web import cookies
-from app.web.csrf import CsrfRefused, check_session_token
-from app.web.forms import FormErrors, secret, text
 
 SessionDep = Annotated[Session, Depends(get_session)]
 
@@ -39,58 +31,25 @@ class Forbidden(Exception):
 
 class ConfirmIdentity(Exception):
     """An action that cannot be undone, from a session whose last check is over five minutes old:
-    the page asks for the password (and a code) again and posts the same form back, so the action
-    goes on once they are right. `fields` are the form's own values, carried as hidden inputs."""
+    the page asks for the password (and a code, when `needs_code`) again and posts the same form
+    back, so the action goes on once they are right. `fields` are the form's own values, carried as
+    hidden inputs."""
 
     def __init__(
-        self, *, action: str, fields: list[tuple[str, str]], errors: dict[str, str], status: int
+        self,
+        *,
+        action: str,
+        fields: list[tuple[str, str]],
+        errors: dict[str, str],
+        status: int,
+        needs_code: bool,
     ) -> None:
         super().__init__(action)
         self.action = action
         self.fields = fields
         self.errors = errors
         self.status = status
-
-
-def _live_session(request: Request, session: Session) -> UserSession | None:
-    token = cookies.read_cookie(request, cookies.SESSION)
-    if not token:
-        return None
-    record = load_session(session, token=token, settings=get_settings())
-    if record is not None:
-        act_as(session, Actor("user", record.user.id, record.user.email))
-    return record
-
-
-def _asked_for(request: Request) -> str:
-    return request.url.path + (f"?{request.url.query}" if request.url.query else "")
-
-
-def _second_factor_gate(request: Request, record: UserSession) -> None:
-    """Send a session that has not passed its second factor to the code (or enrolment) page."""
-    if not second_factor.passed(record, get_settings()):
-        enrolled = second_factor.is_enrolled(record.user)
-        raise SignInRequired(_asked_for(request), page="/login/code" if enrolled else "/account/two-factor")
-
-
-def pending_login(request: Request, session: SessionDep) -> UserSession:
-    """A live session, whether or not it has passed its second factor (the code and enrolment pages)."""
-    record = _live_session(request, session)
-    if record is None:
-        raise SignInRequired(_asked_for(request))
-    request.state.login = record
-    return record
-
-
-def current_login(request: Request, session: SessionDep) -> UserSession:
-    """The signed-in session of a page view, or a redirect to sign in (or to its second factor)."""
-    record = _live_session(request, session)
-    if record is None:
-        raise SignInRequired(_asked_for(request))
-    _second_factor_gate(request, record)
-    request.state.login = record
-    request.state.flash = pop_flash(session, record)
-    return record
+        self.needs_code = needs_code
 
 
 async def form_data(request: Request) -> FormData:
@@ -101,106 +60,7 @@ async def form_data(request: Request) -> FormData:
 FormDep = Annotated[FormData, Depends(form_data)]
 
 
-def pending_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
-    """A POST carrying the session's CSRF token, whether or not it has passed its second factor."""
-    record = _live_session(request, session)
-    if record is None:
-        raise CsrfRefused
-    check_session_token(form, record.csrf_token)
-    request.state.login = record
-    return record
+def __getattr__(name: str) -> object:  # TEMPORARY until w-moves is merged: its modules' old imports
+    from app.accounts import deps
 
-
-def checked_post(request: Request, session: SessionDep, form: FormDep) -> UserSession:
-    """A POST from a signed-in session (past its second factor) carrying that session's CSRF token;
-    anything else is 403 (or, before the second factor, a redirect to it)."""
-    record = pending_post(request, session, form)
-    _second_factor_gate(request, record)
-    return record
-
-
-PendingLogin = Annotated[UserSession, Depends(pending_login)]
-PendingPost = Annotated[UserSession, Depends(pending_post)]
-CurrentLogin = Annotated[UserSession, Depends(current_login)]
-PostLogin = Annotated[UserSession, Depends(checked_post)]
-
-
-def admin_login(login: CurrentLogin) -> UserSession:
-    """A page view by an administrator."""
-    if login.user.role != "admin":
-        raise Forbidden
-    return login
-
-
-def admin_post(login: PostLogin) -> UserSession:
-    """A checked POST by an administrator."""
-    if login.user.role != "admin":
-        raise Forbidden
-    return login
-
-
-AdminLogin = Annotated[UserSession, Depends(admin_login)]
-AdminPost = Annotated[UserSession, Depends(admin_post)]
-
-_CONFIRMATION_FIELDS = {"csrf_token", reauth.PASSWORD_FIELD, reauth.CODE_FIELD}
-
-
-def _carried(form: FormData) -> list[tuple[str, str]]:
-    return [
-        (name, value)
-        for name, value in form.multi_items()
-        if isinstance(value, str) and name not in _CONFIRMATION_FIELDS
-    ]
-
-
-def _confirmed(request: Request, session: Session, login: UserSession, form: FormData) -> UserSession:
-    """The session, once it proved who it is within five minutes (now, from this form, if need be)."""
-    if reauth.is_fresh(login):
-        return login
-    errors = FormErrors()
-    if reauth.PASSWORD_FIELD in form:
-        password = secret(form, reauth.PASSWORD_FIELD, errors, limit=1000)
-        code = text(form, reauth.CODE_FIELD, errors, limit=40)
-        if not password:
-            errors.add(reauth.PASSWORD_FIELD, "Enter your password")
-        if not code and reauth.needs_code(login, get_settings()):
-            errors.add(reauth.CODE_FIELD, "Enter the 6-digit code your app shows now")
-        if not errors:
-            try:
-                reauth.confirm(
-                    session,
-                    record=login,
-                    password=password,
-                    code=code,
-                    client_ip=request.client.host if request.client else None,
-                    settings=get_settings(),
-                )
-                return login
-            except ServiceError as error:
-                errors.add_problems(
-                    error.problems,
-                    {reauth.PASSWORD_FIELD: reauth.PASSWORD_FIELD, reauth.CODE_FIELD: reauth.CODE_FIELD},
-                    reauth.PASSWORD_FIELD,
-                )
-    raise ConfirmIdentity(
-        action=request.url.path,
-        fields=_carried(form),
-        errors=errors.messages,
-        status=422 if errors else 401,
-    )
-
-
-def confirmed_post(request: Request, session: SessionDep, login: PostLogin, form: FormDep) -> UserSession:
-    """A checked POST that cannot be undone: the password and code again if the last check is old."""
-    return _confirmed(request, session, login, form)
-
-
-def confirmed_admin_post(
-    request: Request, session: SessionDep, login: AdminPost, form: FormDep
-) -> UserSession:
-    """A checked POST by an administrator that cannot be undone (see confirmed_post)."""
-    return _confirmed(request, session, login, form)
-
-
-ConfirmedPost = Annotated[UserSession, Depends(confirmed_post)]
-ConfirmedAdminPost = Annotated[UserSession, Depends(confirmed_admin_post)]
+    return getattr(deps, name)

@@ -11,9 +11,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
-from app.accounts import reauth
 from app.api.errors import DATABASE_ERRORS, note_outage, retry_later_headers
-from app.config import get_settings
 from app.db import is_outage
 from app.errors import ServiceError
 from app.web.csrf import CsrfRefused
@@ -83,7 +81,6 @@ async def on_forbidden(request: Request, _exc: Exception) -> Response:
 async def on_confirm_identity(request: Request, exc: Exception) -> Response:
     """Ask for the password (and a code) again, carrying the form so the action goes on after."""
     assert isinstance(exc, ConfirmIdentity)
-    login = getattr(request.state, "login", None)
     return render(
         request,
         "accounts/confirm.html",
@@ -91,7 +88,7 @@ async def on_confirm_identity(request: Request, exc: Exception) -> Response:
             "action": exc.action,
             "fields": exc.fields,
             "errors": exc.errors,
-            "needs_code": login is not None and reauth.needs_code(login, get_settings()),
+            "needs_code": exc.needs_code,
         },
         status_code=exc.status,
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -10,10 +11,9 @@ from starlette.requests import Request
 from starlette.responses import HTMLResponse
 from starlette.templating import Jinja2Templates
 
-from app.accounts import second_factor
 from app.config import get_settings
-from app.inspections.wording import case_name, verdict_mark
 from app.web import formatting
+from app.wording import case_name, verdict_mark
 
 TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
 SERVICE_NAME = "Keke stability certification"
@@ -47,6 +47,20 @@ _env.globals.update(
 templates = Jinja2Templates(env=_env)
 
 
+def _unwired(_login: Any) -> bool:
+    raise RuntimeError("app.web.templating: no navigation rule; the composition root sets one")
+
+
+_navigation_rule: Callable[[Any], bool] = _unwired
+
+
+def use_navigation_rule(rule: Callable[[Any], bool]) -> None:
+    """Set which signed-in sessions the layout offers the navigation to (the accounts package knows
+    whether a session has passed its second factor; the composition root passes its rule in)."""
+    global _navigation_rule
+    _navigation_rule = rule
+
+
 def render(
     request: Request,
     name: str,
@@ -60,7 +74,7 @@ def render(
         "login": login,
         "user": login.user if login else None,
         # Before the second factor, the pages behind it are not offered (they would only send back).
-        "navigation": login is not None and second_factor.passed(login, get_settings()),
+        "navigation": login is not None and _navigation_rule(login),
         "csrf_token": login.csrf_token if login else "",
         "flash": getattr(request.state, "flash", None),
         "issuing_authority": get_settings().issuing_authority,

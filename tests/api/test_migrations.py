@@ -21,7 +21,7 @@ from sqlalchemy.orm import Session
 
 import app.models  # noqa: F401  (registers every table on the metadata)
 from app.audit.models import AuditEvent
-from app.audit.service import verify_log
+from app.audit_log.service import verify_log
 from app.certificates.actors import Actor
 from app.certificates.service import issue_certificate, revoke_certificate
 from app.config import get_settings

@@ -22,8 +22,8 @@ from app.accounts.service import create_user
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.cli import main
-from app.inspections.wording import document_headline
 from app.web.formatting import local_time, long_date
+from app.wording import document_headline
 
 REFUSAL_OCCUPANCY = "This vehicle must not carry passengers"
 REFUSAL_VERDICT = (

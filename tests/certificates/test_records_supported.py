@@ -16,7 +16,7 @@ from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 
 from app.audit.models import AuditEvent
-from app.audit.service import verify_log
+from app.audit_log.service import verify_log
 from app.certificates.actors import Actor
 from app.certificates.facts import facts_of
 from app.certificates.guard import ImmutableRecord, immutability_lifted

@@ -15,8 +15,8 @@ from study_data import STUDY_READINGS
 from app import config
 from app.api import address_limits
 from app.api.address_limits import AddressWindows
+from app.api.windows import RateLimit
 from app.main import create_app
-from app.stations.rate_limit import RateLimit
 from app.stations.service import create_station
 
 INSPECTIONS = "/api/v1/inspections"

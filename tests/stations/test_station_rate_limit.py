@@ -10,7 +10,8 @@ from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
 from app import config
-from app.stations.rate_limit import RateLimit, RateLimited, authenticate_and_count
+from app.api.windows import RateLimit
+from app.stations.rate_limit import RateLimited, authenticate_and_count
 from app.stations.service import create_station
 
 INSPECTIONS = "/api/v1/inspections"

@@ -18,8 +18,8 @@ from sqlalchemy import Engine, func, select, text
 from sqlalchemy.orm import Session
 
 from app.audit.chain import GENESIS, event_hash, verify_chain
-from app.audit.checkpoint import ChainContradicted, _events, _fields, record_checkpoint
 from app.audit.models import AuditCheckpoint, AuditEvent
+from app.audit_log.checkpoint import ChainContradicted, _events, _fields, record_checkpoint
 from app.certificates.guard import immutability_lifted
 from app.cli import main
 from app.config import get_settings

@@ -29,11 +29,11 @@ from study_data import STUDY_VEHICLE
 
 from app.accounts.models import User
 from app.audit import recorder
-from app.audit import views as audit_views
 from app.audit.models import AuditCheckpoint, AuditEvent
 from app.audit.recorder import Actor, act_as, acting_from_command_line, record_event
-from app.audit.service import verify_log
 from app.audit.startup import record_start
+from app.audit_log import views as audit_views
+from app.audit_log.service import verify_log
 from app.certificates.guard import immutability_lifted
 from app.config import Settings
 from app.stations.service import create_station

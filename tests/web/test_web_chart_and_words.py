@@ -6,8 +6,8 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from app.inspections.wording import occupancy_sentence, verdict_mark, verdict_sentence
 from app.web.chart import ChartPoint, lsf_chart, y_range
+from app.wording import occupancy_sentence, verdict_mark, verdict_sentence
 
 SVG = "{http://www.w3.org/2000/svg}"
 STUDY = [

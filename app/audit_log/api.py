@@ -11,8 +11,8 @@ from pydantic import BaseModel, ConfigDict, Field
 from sqlalchemy import select
 
 from app.api.errors import error_responses
-from app.audit.checkpoint import newest_checkpoint
 from app.audit.models import AuditCheckpoint
+from app.audit_log.checkpoint import newest_checkpoint
 from app.errors import NotFound
 from app.web.deps import SessionDep
 

@@ -11,9 +11,10 @@ from fastapi import APIRouter, Depends, Query
 from starlette.requests import Request
 from starlette.responses import Response
 
-from app.audit.checkpoint import verify_since_checkpoint
+from app.accounts.deps import AdminLogin
 from app.audit.models import AuditEvent
-from app.audit.service import (
+from app.audit_log.checkpoint import verify_since_checkpoint
+from app.audit_log.service import (
     ACTOR_KINDS,
     AuditFilter,
     actions_on_record,
@@ -23,7 +24,7 @@ from app.audit.service import (
 )
 from app.config import get_settings
 from app.ids import PageNumber
-from app.web.deps import AdminLogin, SessionDep
+from app.web.deps import SessionDep
 from app.web.formatting import day_bounds, local_today, long_date, to_local
 from app.web.forms import FormErrors, query_text, read_date
 from app.web.spreadsheet import Cell, csv_download

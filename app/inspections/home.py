@@ -6,8 +6,9 @@ from fastapi import APIRouter
 from starlette.requests import Request
 from starlette.responses import Response
 
+from app.accounts.deps import CurrentLogin
 from app.inspections.service import InspectionFilter, list_inspections
-from app.web.deps import CurrentLogin, SessionDep
+from app.web.deps import SessionDep
 from app.web.formatting import day_bounds, local_today
 from app.web.templating import render
 

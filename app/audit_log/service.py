@@ -12,8 +12,8 @@ from sqlalchemy import ColumnElement, Select, func, select
 from sqlalchemy.orm import Session
 
 from app.audit.chain import ChainReport
-from app.audit.checkpoint import verify_all
 from app.audit.models import AuditEvent
+from app.audit_log.checkpoint import verify_all
 from app.config import Settings, get_settings
 
 ACTOR_KINDS = ("user", "station", "command_line", "anonymous")

@@ -1,0 +1,69 @@
+"""The composition root's parts: every capability's routers in the order they are matched, and the
+callbacks lower packages are handed so that no package imports one above it (docs/architecture.md).
+
+Importing this module wires those callbacks; app/main.py mounts the routers.
+"""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+from app.accounts.admin_views import router as admin_router
+from app.accounts.deps import offers_navigation
+from app.accounts.second_factor_views import router as second_factor_router
+from app.accounts.views import router as accounts_router
+from app.api.errors import UNAVAILABLE_RESPONSE
+from app.audit_log.api import router as audit_api_router
+from app.audit_log.views import router as audit_router
+from app.certificates.api import router as certificates_api_router
+from app.inspections.api import router as inspections_api_router
+from app.inspections.api import submission_router
+from app.inspections.dynamics_api import router as dynamics_api_router
+from app.inspections.home import router as home_router
+from app.inspections.service import count_matches_with
+from app.inspections.views import router as inspections_router
+from app.pages.inspection import router as inspection_page_router
+from app.pages.vehicle import router as vehicle_page_router
+from app.stations.views import router as stations_router
+from app.statistics.matching import count_matching_inspections
+from app.statistics.views import router as statistics_router
+from app.type_assessments.api import router as type_assessments_api_router
+from app.type_assessments.views import router as type_assessments_router
+from app.vehicles.api import router as vehicles_api_router
+from app.vehicles.dynamics_views import router as vehicle_dynamics_router
+from app.vehicles.views import router as vehicles_router
+from app.web.templating import use_navigation_rule
+
+# The station API under /api/v1.
+api_router = APIRouter(prefix="/api/v1", responses=UNAVAILABLE_RESPONSE)
+# A weighing's submission first: the route stations call most is matched before any other.
+hot_router = APIRouter(prefix="/api/v1", responses=UNAVAILABLE_RESPONSE)
+hot_router.include_router(submission_router)
+api_router.include_router(vehicles_api_router)
+api_router.include_router(inspections_api_router)
+api_router.include_router(dynamics_api_router)
+api_router.include_router(certificates_api_router)
+api_router.include_router(audit_api_router)
+api_router.include_router(type_assessments_api_router)
+
+# The officer pages (app/web/setup.py mounts them).
+page_routers: tuple[APIRouter, ...] = (
+    home_router,
+    accounts_router,
+    second_factor_router,
+    admin_router,
+    audit_router,
+    stations_router,
+    vehicle_dynamics_router,
+    vehicles_router,
+    vehicle_page_router,
+    inspections_router,
+    inspection_page_router,
+    statistics_router,
+    type_assessments_router,
+)
+
+# The layout offers its navigation once a session has passed its second factor (accounts decide).
+use_navigation_rule(offers_navigation)
+# A list of inspections counts the closed days it covers from the statistics' stored counts.
+count_matches_with(count_matching_inspections)

@@ -1,0 +1,239 @@
+"""Every fact in words, one function each: used by the pages, the PDF, the verify page, the CLI and the API.
+
+Numbers follow the GOV.UK style: "one", then numerals (2, 3, ... 12).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from decimal import Decimal
+from typing import Literal
+
+from app.stability.model import case_label
+from app.stability.remedies import Advice
+
+DocumentKind = Literal["compliant", "refusal"]
+DocumentStatus = Literal["issued", "revoked", "superseded", "expired"]
+
+
+def number_word(count: int) -> str:
+    """'one' for 1, numerals otherwise: one, 2, 3 ... (GOV.UK style)."""
+    return "one" if count == 1 else str(count)
+
+
+def passengers(count: int) -> str:
+    """'one passenger', '2 passengers'."""
+    return f"{number_word(count)} passenger{'' if count == 1 else 's'}"
+
+
+def occupancy(occupants: int) -> str:
+    """One loading case in words: 'the driver alone', 'the driver and 2 passengers'."""
+    if occupants <= 0:
+        return "nobody aboard"
+    if occupants == 1:
+        return "the driver alone"
+    return f"the driver and {passengers(occupants - 1)}"
+
+
+def occupancy_limit(max_compliant_occupants: int) -> str:
+    """The most a vehicle may carry: 'the driver alone', 'the driver and up to 2 passengers'."""
+    if max_compliant_occupants <= 1:
+        return "the driver alone"
+    return f"the driver and up to {passengers(max_compliant_occupants - 1)}"
+
+
+def occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
+    """The occupancy sentence: 'Certified for the driver and up to 2 passengers', or what a refusal allows."""
+    if compliant and max_compliant_occupants >= 1:
+        if max_compliant_occupants == 1:
+            return "Certified for the driver alone: no passengers"
+        return f"Certified for {occupancy_limit(max_compliant_occupants)}"
+    if max_compliant_occupants <= 0:
+        return "This vehicle must not be used: it is unstable even with the driver alone"
+    if max_compliant_occupants == 1:
+        return "This vehicle must not carry passengers"
+    return f"This vehicle may carry {occupancy_limit(max_compliant_occupants)}, no more"
+
+
+def verdict_mark(compliant: bool) -> Literal["C", "NC"]:
+    """A loading case's (or a document's) verdict as the study's Table 4 marks it: 'C' or 'NC'."""
+    return "C" if compliant else "NC"
+
+
+def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants: int) -> str:
+    """The overall verdict in one or two sentences, from (occupants, compliant) per loading case."""
+    occupied = [(n, ok) for n, ok in cases if n > 0]
+    if all(ok for _n, ok in cases):
+        most = max((n for n, _ok in occupied), default=0)
+        return f"Compliant. Laterally stable in every loading case, up to {occupancy(most)}."
+    best = max_compliant_occupants
+    failing = [n for n, ok in occupied if not ok]
+    if best == 0:
+        return "Not compliant. Laterally unstable even with the driver alone."
+    stable = f"Laterally stable with {occupancy_limit(best)}"
+    if not failing:
+        return f"Not compliant. {stable}; unstable when empty."
+    unstable = f"the driver and {passengers(min(failing) - 1)}"
+    if failing == [n for n, _ok in occupied if n >= min(failing)]:
+        if max(failing) > min(failing):
+            unstable = f"the driver and {number_word(min(failing) - 1)} or more passengers"
+    else:
+        unstable = " or ".join(occupancy(n) for n in failing)
+    return f"Not compliant. {stable}; unstable with {unstable}."
+
+
+def document_kind(kind: str) -> str:
+    """What the document is called in a sentence: 'certificate' or 'refusal'."""
+    return "certificate" if kind == "compliant" else "refusal"
+
+
+def document_title(kind: str) -> str:
+    """The document's title: 'Lateral Stability Certificate' or 'Lateral Stability Refusal'."""
+    return "Lateral Stability Certificate" if kind == "compliant" else "Lateral Stability Refusal"
+
+
+def issued_message(kind: str, number: str, created: bool) -> str:
+    """The message after asking for a document: 'Refusal TRK-... issued.' or 'Already issued: ...'."""
+    name = document_kind(kind).capitalize()
+    return f"{name} {number} issued." if created else f"Already issued: {document_kind(kind)} {number}."
+
+
+def revoked_message(kind: str, number: str) -> str:
+    """The message after revoking: 'Certificate TRK-... revoked.'."""
+    return f"{document_kind(kind).capitalize()} {number} revoked."
+
+
+def status_headline(kind: str, status: str) -> str:
+    """The verify banner's headline: VALID CERTIFICATE, NOT CERTIFIED: refusal, REVOKED, EXPIRED..."""
+    if status == "issued":
+        return "VALID CERTIFICATE" if kind == "compliant" else "NOT CERTIFIED: refusal"
+    return status.upper()
+
+
+def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked", "lapsed"]:
+    """The banner's colour: green only for a certificate in force; red refused/revoked; grey lapsed."""
+    if status == "issued":
+        return "valid" if kind == "compliant" else "refused"
+    return "revoked" if status == "revoked" else "lapsed"
+
+
+QR_GENUINE = "The QR code is genuine"
+QR_NOT_GENUINE = "The QR code is NOT genuine: do not rely on this paper"
+
+
+def status_headline_on(kind: str, status: str, since: str | None) -> str:
+    """The headline with its date for a lapsed document: 'REVOKED on 3 December 2026'."""
+    headline = status_headline(kind, status)
+    return f"{headline} on {since}" if since and status != "issued" else headline
+
+
+_QR_REASONS = {
+    "bad_signature": "its content was changed, or it was not signed by the issuing authority",
+    "unknown_key": "it was not signed with any key of the issuing authority",
+    "unsupported_algorithm": "it was not signed the way the issuing authority signs",
+    "malformed": "it is damaged or is not a code the issuing authority makes",
+    "tampered": "it was signed for a different document from the one on record under this number",
+}
+
+
+def qr_reason(reason: str) -> str:
+    """Why a QR code is not genuine, in words without key ids or codes."""
+    return _QR_REASONS.get(reason, "its signature does not check out")
+
+
+def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
+    """What a type assessment allows every vehicle of the model, by its confident verdict."""
+    if compliant and max_compliant_occupants >= 1:
+        if max_compliant_occupants == 1:
+            return "The model is certified for the driver alone: no passengers"
+        return f"The model is certified for {occupancy_limit(max_compliant_occupants)}"
+    if max_compliant_occupants <= 0:
+        return "The model is not shown stable even with the driver alone"
+    if max_compliant_occupants == 1:
+        return "Vehicles of this model must not carry passengers"
+    return f"Vehicles of this model may carry {occupancy_limit(max_compliant_occupants)}, no more"
+
+
+def _position(x_m: Decimal) -> str:
+    """Where ballast sits, in words: '0.30 m behind the front wheel', '0.20 m ahead of the front wheel'."""
+    places = max(2, -int(x_m.normalize().as_tuple().exponent))
+    distance = f"{abs(x_m):.{places}f} m"
+    if x_m == 0:
+        return "over the front wheel"
+    return f"{distance} {'behind' if x_m > 0 else 'ahead of'} the front wheel"
+
+
+def _case_left(occupants: int) -> str:
+    """A loading case a remedy leaves unfixed: 'the empty vehicle', 'the driver alone'."""
+    return "the empty vehicle" if occupants == 0 else f"the vehicle with {occupancy(occupants)}"
+
+
+def remedy_options(advice: Advice) -> list[str]:
+    """Each way to make every case up to the target comply, in words an owner understands."""
+    if advice.compliant:
+        return []
+    options = []
+    best = advice.max_compliant_occupants
+    if 1 <= best < advice.target_occupants:
+        limit = "the driver" if best == 1 else f"the driver and {passengers(best - 1)}"
+        options.append(f"carry no more than {limit}")
+    if advice.ballast_kg is not None:
+        options.append(f"fit more than {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}")
+    if advice.seat_shift_m is not None:
+        option = f"move the rear bench {advice.seat_shift_m} m forward"
+        if advice.seat_shift_unfixable:
+            left = " and ".join(_case_left(n) for n in advice.seat_shift_unfixable)
+            option += f", which still leaves {left} non-compliant"
+        options.append(option)
+    if advice.tyre_ratio is not None:
+        options.append(
+            f"fit rear tyres at least {advice.tyre_ratio} times as stiff in cornering as the front"
+        )
+    return options
+
+
+def remedies_sentence(advice: Advice) -> str:
+    """The remedies in one sentence: 'Carry no more than the driver; or fit more than 54.64 kg of ...'."""
+    if advice.compliant:
+        return f"Nothing: every loading case up to {occupancy(advice.target_occupants)} already complies."
+    text = "; or ".join(remedy_options(advice))
+    sentence = f"{text[:1].upper()}{text[1:]}." if text else ""
+    if not advice.ballast_possible:
+        sentence += (
+            f" Ballast {_position(advice.ballast_x_m)} cannot help: it must sit less than two thirds of the "
+            "wheelbase behind the front wheel."
+        )
+    return sentence.strip()
+
+
+def remedy_applied(advice: Advice, remedy: str) -> str | None:
+    """One advised remedy as done: 'after fitting 54.64 kg of ballast 0.30 m behind the front wheel'."""
+    if remedy == "ballast" and advice.ballast_kg is not None:
+        return f"after fitting {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}"
+    if remedy == "seat_shift" and advice.seat_shift_m is not None:
+        return f"after moving the rear bench {advice.seat_shift_m} m forward"
+    return None
+
+
+def document_headline(kind: str, max_compliant_occupants: int) -> str:
+    """What a paper says first: 'CERTIFIED: the driver and up to 2 passengers' or 'NOT CERTIFIED: REFUSAL'."""
+    if kind != "compliant":
+        return "NOT CERTIFIED: REFUSAL"
+    if max_compliant_occupants <= 1:
+        return "CERTIFIED: the driver alone, no passengers"
+    return f"CERTIFIED: {occupancy_limit(max_compliant_occupants)}"
+
+
+def case_name(occupants: int) -> str:
+    """A loading case as a document names it: 'Empty (no occupants)', 'Driver', 'Driver + 2 passengers'."""
+    return "Empty (no occupants)" if occupants <= 0 else case_label(occupants)
+
+
+_RULES = {
+    "lsf<2/3:cumulative-cases:v1": "LSF below 2/3 in every loading case (rules v1)",
+}
+
+
+def rules_words(rules_version: str) -> str:
+    """The rules a verdict was decided under, in words: 'LSF below 2/3 in every loading case (rules v1)'."""
+    return _RULES.get(rules_version, f"rules {rules_version}")
