@@ -16,7 +16,7 @@ from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stations.models import Station, StationRateWindow
 from app.statistics.models import StatisticsDay, StatisticsDayStation
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
+from app.dynamics.models import VehicleDynamicsRevision
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
 

@@ -28,7 +28,7 @@ from app.certificates.models import Certificate, CertificateRevocation, SigningK
 from app.db import REQUEST_ORIGIN_KEY, utcnow
 from app.stations.models import Station
 from app.type_assessments.models import TypeAssessmentRecord
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain

@@ -14,7 +14,7 @@ from typing import Any
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import officer_of, station_shown_as
-from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
+from app.dynamics.facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
 from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence

@@ -19,7 +19,7 @@ from decimal import Decimal
 import segno
 
 from app.certificates.chart import Box, chart_height, draw_chart
-from app.certificates.dynamics_pdf import draw_estimates
+from app.dynamics.pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
 from app.inspections.wording import (

@@ -18,7 +18,7 @@ from app.config import get_settings
 from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
 from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
-from app.inspections.dynamics import inspection_dynamics
+from app.dynamics.estimates import inspection_dynamics
 from app.inspections.record import record_of
 from app.inspections.remedies import inspection_remedies
 from app.inspections.remedy_schemas import RemediesOut, remedies_out

@@ -32,8 +32,8 @@ from app.stability import Seat
 from app.stations.models import Station, StationRateWindow
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import on_conflict_count
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
-from app.vehicles.dynamics_service import DynamicsFigures
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.service import DynamicsFigures
 from app.vehicles.models import Seat as SeatRow
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile

@@ -11,7 +11,7 @@ from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
 from app.stations.models import Station
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
+from app.dynamics.models import VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 

@@ -10,8 +10,8 @@ from typing import Any
 from starlette.datastructures import QueryParams
 
 from app.config import get_settings
-from app.inspections.dynamics import inspection_dynamics
-from app.inspections.dynamics_wording import figure_text
+from app.dynamics.estimates import inspection_dynamics
+from app.dynamics.wording import figure_text
 from app.inspections.models import Inspection
 from app.inspections.remedies import stored_assessment
 from app.inspections.wording import case_name, remedies_sentence, remedy_applied

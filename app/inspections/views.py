@@ -19,7 +19,7 @@ from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
 from app.ids import IdChoice, InspectionId, PageNumber, parse_id
-from app.inspections.dynamics_views import dynamics_context
+from app.dynamics.presentation import dynamics_context
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
 from app.inspections.remedy_page import remedies_context

@@ -20,7 +20,7 @@ from app.idempotency.http import (
 )
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
-from app.vehicles.dynamics_api import dynamics_figures, dynamics_out
+from app.dynamics.vehicle_api import dynamics_figures, dynamics_out
 from app.vehicles.models import Vehicle
 from app.vehicles.schemas import (
     RegistrationNumber,

@@ -6,8 +6,8 @@ from dataclasses import dataclass
 from decimal import Decimal
 
 from app.stability import Seat
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
-from app.vehicles.dynamics_service import DynamicsFigures, revision_figures
+from app.dynamics.models import VehicleDynamicsRevision
+from app.dynamics.service import DynamicsFigures, revision_figures
 from app.vehicles.models import Vehicle
 
 

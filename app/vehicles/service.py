@@ -15,7 +15,7 @@ from app.stability import Rules, StabilityError
 from app.stability import Seat as StabilitySeat
 from app.stability.validation import check_seat_layout, check_wheelbase
 from app.text import TextRefused, check_text, checked, optional_checked, without_refused
-from app.vehicles.dynamics_service import DynamicsFigures, check_figures, new_revision
+from app.dynamics.service import DynamicsFigures, check_figures, new_revision
 from app.vehicles.models import Seat, Vehicle
 
 MAKE_LENGTH = 80

@@ -15,7 +15,7 @@ from app.errors import Conflict, NotFound, ServiceError
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections
 from app.inspections.views import result_context
 from app.text import without_refused
-from app.vehicles.dynamics_views import figures_rows
+from app.dynamics.views import figures_rows
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep

@@ -15,7 +15,7 @@ from app.inspections.views import router as inspections_router
 from app.stations.views import router as stations_router
 from app.statistics.views import router as statistics_router
 from app.type_assessments.views import router as type_assessments_router
-from app.vehicles.dynamics_views import router as vehicle_dynamics_router
+from app.dynamics.views import router as vehicle_dynamics_router
 from app.vehicles.views import router as vehicles_router
 from app.web.errors import install_web_error_handlers
 from app.web.headers import PageHeaders

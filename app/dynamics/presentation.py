@@ -8,8 +8,8 @@ from decimal import Decimal
 from markupsafe import Markup
 
 from app.config import get_settings
-from app.inspections.dynamics import inspection_dynamics
-from app.inspections.dynamics_wording import (
+from app.dynamics.estimates import inspection_dynamics
+from app.dynamics.wording import (
     SECTION_LEAD,
     SECTION_TITLE,
     UNKNOWN,

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from app.certificates import fonts
 from app.certificates.chart import Box
-from app.certificates.dynamics_facts import EstimateFacts
+from app.dynamics.facts import EstimateFacts
 from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
-from app.inspections.dynamics_wording import SECTION_LEAD, SECTION_TITLE
+from app.dynamics.wording import SECTION_LEAD, SECTION_TITLE
 from app.inspections.wording import case_name
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry

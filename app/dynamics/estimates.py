@@ -24,7 +24,7 @@ from app.stability.dynamics import (
     assess_dynamics,
 )
 from app.stability.validation import check_number
-from app.vehicles.dynamics_service import DynamicsFigures, core_figures, revision_figures
+from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 
 
 @dataclass(frozen=True)
