@@ -16,7 +16,7 @@ from sqlalchemy.orm import Session
 from app.certificates.actors import officer_of, station_shown_as
 from app.dynamics.facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
-from app.inspections.remedies import stored_assessment
+from app.remedies.service import stored_assessment
 from app.inspections.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 from app.stability import case_label
 from app.stability.remedies import Advice, advice_of, size_remedies

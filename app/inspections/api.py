@@ -20,8 +20,8 @@ from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
 from app.dynamics.estimates import inspection_dynamics
 from app.inspections.record import record_of
-from app.inspections.remedies import inspection_remedies
-from app.inspections.remedy_schemas import RemediesOut, remedies_out
+from app.remedies.service import inspection_remedies
+from app.remedies.schemas import RemediesOut, remedies_out
 from app.inspections.schemas import (
     InspectionIn,
     InspectionOut,

@@ -22,7 +22,7 @@ from app.ids import IdChoice, InspectionId, PageNumber, parse_id
 from app.dynamics.presentation import dynamics_context
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
-from app.inspections.remedy_page import remedies_context
+from app.remedies.views import remedies_context
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
 from app.inspections.wording import case_name, occupancy_sentence, verdict_sentence
 from app.stations.models import Station
