@@ -5,9 +5,9 @@ from fastapi import APIRouter
 from app.api.errors import UNAVAILABLE_RESPONSE
 from app.audit.api import router as audit_router
 from app.certificates.api import router as certificates_router
+from app.dynamics.api import router as dynamics_router
 from app.inspections.api import router as inspections_router
 from app.inspections.api import submission_router
-from app.dynamics.api import router as dynamics_router
 from app.type_assessments.api import router as type_assessments_router
 from app.vehicles.api import router as vehicles_router
 

@@ -24,11 +24,12 @@ from sqlalchemy.orm import Session, UOWTransaction
 from app.accounts.models import LoginAttempt, User
 from app.audit.chain import GENESIS, EventFields, canonical_json, event_hash
 from app.audit.models import AuditEvent
-from app.certificates.models import Certificate, CertificateRevocation, SigningKey
+from app.certificates.models import Certificate, CertificateRevocation
 from app.db import REQUEST_ORIGIN_KEY, utcnow
-from app.stations.models import Station
-from app.type_assessments.models import TypeAssessmentRecord
 from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.stations.models import Station
+from app.trust.models import SigningKey
+from app.type_assessments.models import TypeAssessmentRecord
 from app.vehicles.models import Vehicle
 
 CHAIN_LOCK = 0x7472696B  # "trik": the advisory lock that serialises appends to the chain

@@ -19,9 +19,9 @@ from decimal import Decimal
 import segno
 
 from app.certificates.chart import Box, chart_height, draw_chart
-from app.dynamics.pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
 from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
+from app.dynamics.pdf import draw_estimates
 from app.inspections.wording import (
     case_name,
     document_headline,

@@ -8,11 +8,9 @@ from fastapi import APIRouter, Path, Query
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
-from app.certificates.keys import published_keys
 from app.certificates.models import Certificate
 from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
-from app.certificates.verification import PayloadCheck, check_payload
 from app.certificates.verify_json import payload_param, verification_json, wants_json
 from app.certificates.wording import (
     NumberRule,
@@ -27,6 +25,8 @@ from app.config import get_settings
 from app.errors import NotFound
 from app.inspections import wording
 from app.text import without_refused
+from app.trust.keys import published_keys
+from app.trust.verification import PayloadCheck, check_payload
 from app.web.deps import SessionDep
 from app.web.formatting import long_date
 from app.web.forms import FormErrors, query_text

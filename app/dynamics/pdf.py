@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from app.certificates import fonts
 from app.certificates.chart import Box
-from app.dynamics.facts import EstimateFacts
 from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
+from app.dynamics.facts import EstimateFacts
 from app.dynamics.wording import SECTION_LEAD, SECTION_TITLE
 from app.inspections.wording import case_name
 from app.stability import case_label

@@ -132,6 +132,7 @@ class VehicleDynamicsOut(BaseModel):
     drag_area_m2: float | None
     centre_of_pressure_height_m: float | None
 
+
 _LIFT = "How far the front wheel is raised for the second weighing (m)."
 _CG = "The empty vehicle's centre of gravity height above the ground (m), if known (not with cg_lift)."
 LiftHeight = Annotated[

@@ -11,9 +11,9 @@ from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts.sessions import set_flash
-from app.errors import NotFound, ServiceError
 from app.dynamics.models import DYNAMICS_FIELDS
 from app.dynamics.service import DynamicsFigures, record_figures, revision_figures, seat_heights
+from app.errors import NotFound, ServiceError
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep

@@ -15,13 +15,11 @@ from app.api.fields import Timestamp
 from app.api.openapi import REQUIRED_BODY, as_sent
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
+from app.dynamics.estimates import inspection_dynamics
 from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
 from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
-from app.dynamics.estimates import inspection_dynamics
 from app.inspections.record import record_of
-from app.remedies.service import inspection_remedies
-from app.remedies.schemas import RemediesOut, remedies_out
 from app.inspections.schemas import (
     InspectionIn,
     InspectionOut,
@@ -36,6 +34,8 @@ from app.inspections.service import (
 )
 from app.inspections.submission import submit_inspection
 from app.numbers import LIMITS, POSITION_SCHEMA, ascii_number_text
+from app.remedies.schemas import RemediesOut, remedies_out
+from app.remedies.service import inspection_remedies
 from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber

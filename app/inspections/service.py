@@ -13,8 +13,9 @@ from sqlalchemy import ColumnElement, Select, bindparam, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write, utcnow
-from app.errors import InvalidInput, NotFound
 from app.dynamics.estimates import CgLift, checked_dynamics, estimate_inputs
+from app.dynamics.service import current_revision
+from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection
 from app.inspections.record import InspectionRecord, Provenance, new_record
 from app.inspections.store import store_record
@@ -41,7 +42,6 @@ from app.stations.scale import (
 )
 from app.statistics.matching import count_matching
 from app.statistics.stored import stored_zone
-from app.dynamics.service import current_revision
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile
 from app.vehicles.service import get_vehicle, normalise_registration, valid_key

@@ -17,14 +17,14 @@ from app.certificates.facts import calibration_words
 from app.certificates.in_force import why_not_issuable
 from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
+from app.dynamics.presentation import dynamics_context
 from app.errors import NotFound, ServiceError
 from app.ids import IdChoice, InspectionId, PageNumber, parse_id
-from app.dynamics.presentation import dynamics_context
 from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
 from app.inspections.models import Inspection
-from app.remedies.views import remedies_context
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections, record_inspection
 from app.inspections.wording import case_name, occupancy_sentence, verdict_sentence
+from app.remedies.views import remedies_context
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle

@@ -13,8 +13,8 @@ from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics
 from app.dynamics.wording import figure_text
 from app.inspections.models import Inspection
-from app.remedies.service import stored_assessment
 from app.inspections.wording import case_name, remedies_sentence, remedy_applied
+from app.remedies.service import stored_assessment
 from app.stability import StabilityError
 from app.stability.dynamics import rollover_after_remedy
 from app.stability.remedies import Remedies, advice_of, complies, size_remedies

@@ -11,11 +11,11 @@ from starlette.responses import RedirectResponse, Response
 from app.accounts.sessions import set_flash
 from app.certificates.in_force import current_document
 from app.config import get_settings
+from app.dynamics.views import figures_rows
 from app.errors import Conflict, NotFound, ServiceError
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections
 from app.inspections.views import result_context
 from app.text import without_refused
-from app.dynamics.views import figures_rows
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
 from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep

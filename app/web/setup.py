@@ -11,11 +11,11 @@ from app.accounts.admin_views import router as admin_router
 from app.accounts.second_factor_views import router as second_factor_router
 from app.accounts.views import router as accounts_router
 from app.audit.views import router as audit_router
+from app.dynamics.views import router as vehicle_dynamics_router
 from app.inspections.views import router as inspections_router
 from app.stations.views import router as stations_router
 from app.statistics.views import router as statistics_router
 from app.type_assessments.views import router as type_assessments_router
-from app.dynamics.views import router as vehicle_dynamics_router
 from app.vehicles.views import router as vehicles_router
 from app.web.errors import install_web_error_handlers
 from app.web.headers import PageHeaders

@@ -13,9 +13,9 @@ from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.config import get_settings
 from app.dynamics.estimates import record_input
+from app.dynamics.service import revision_figures
 from app.inspections.record import CaseRow, InspectionRecord
 from app.stability.dynamics import assess_dynamics
-from app.dynamics.service import revision_figures
 
 ILLUSTRATIVE: dict[str, Any] = {
     **STUDY_VEHICLE,
