@@ -6,9 +6,9 @@ is only drawn, with the PDF library's own primitives and the document's embedded
 
 from __future__ import annotations
 
-from app.certificates import fonts
-from app.certificates.chart import Box
-from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
+from app.documents import fonts
+from app.documents.chart import Box
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
 from app.dynamics.facts import EstimateFacts
 from app.dynamics.wording import SECTION_LEAD, SECTION_TITLE
 from app.inspections.wording import case_name

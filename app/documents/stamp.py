@@ -26,12 +26,12 @@ from fpdf import FPDF
 from fpdf.enums import TextMode
 from pypdf import PdfReader, PdfWriter
 
-from app.certificates import fonts
 from app.certificates.models import Certificate
 from app.certificates.pdf import HEADLINE_PAD
 from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
-from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
 from app.certificates.records import Status
+from app.documents import fonts
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
 from app.inspections.wording import document_kind, status_headline_on
 from app.web.formatting import long_date
 

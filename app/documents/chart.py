@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 from fpdf import FPDF
 
-from app.certificates import fonts
 from app.certificates.facts import CaseFacts
+from app.documents import fonts
 from app.inspections.wording import verdict_mark
 from app.stability import LSF_LIMIT
 from app.web.chart import short_label
