@@ -7,10 +7,11 @@ from typing import Any
 
 from app.accounts.models import LoginAttempt, User
 from app.audit.recorder import Audited, audit
-from app.certificates.models import Certificate, CertificateRevocation, SigningKey
+from app.certificates.models import Certificate, CertificateRevocation
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.stations.models import Station
+from app.trust.models import SigningKey
 from app.type_assessments.models import TypeAssessmentRecord
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 

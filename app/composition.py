@@ -16,9 +16,10 @@ from app.api.errors import UNAVAILABLE_RESPONSE
 from app.audit_log.api import router as audit_api_router
 from app.audit_log.views import router as audit_router
 from app.certificates.api import router as certificates_api_router
+from app.dynamics.api import router as dynamics_api_router
+from app.dynamics.views import router as vehicle_dynamics_router
 from app.inspections.api import router as inspections_api_router
 from app.inspections.api import submission_router
-from app.inspections.dynamics_api import router as dynamics_api_router
 from app.inspections.home import router as home_router
 from app.inspections.service import count_matches_with
 from app.inspections.views import router as inspections_router
@@ -30,7 +31,6 @@ from app.statistics.views import router as statistics_router
 from app.type_assessments.api import router as type_assessments_api_router
 from app.type_assessments.views import router as type_assessments_router
 from app.vehicles.api import router as vehicles_api_router
-from app.vehicles.dynamics_views import router as vehicle_dynamics_router
 from app.vehicles.views import router as vehicles_router
 from app.web.templating import use_navigation_rule
 

@@ -8,15 +8,15 @@ from app.certificates.models import (
     CertificateAudit,
     CertificateRevocation,
     CertificateSequence,
-    SigningKey,
 )
 from app.db import Base
+from app.dynamics.models import VehicleDynamicsRevision
 from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stations.models import Station, StationRateWindow
 from app.statistics.models import StatisticsDay, StatisticsDayStation
+from app.trust.models import SigningKey
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
 

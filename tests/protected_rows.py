@@ -12,9 +12,9 @@ from study_data import STUDY_READINGS, STUDY_TYPE_READINGS, STUDY_VEHICLE
 from app.audit_log.checkpoint import record_checkpoint
 from app.audit_log.service import verify_log
 from app.certificates.actors import Actor
-from app.certificates.keys import rotate_signing_key
 from app.certificates.service import revoke_certificate
 from app.config import get_settings
+from app.trust.keys import rotate_signing_key
 
 
 def fill_every_protected_table(api: TestClient, session: Session, *, reason: str) -> dict[str, Any]:

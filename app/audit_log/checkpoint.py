@@ -31,12 +31,12 @@ from sqlalchemy.orm import Session
 
 from app.audit.chain import ChainReport, EventFields, event_hash, verify_chain
 from app.audit.models import AuditCheckpoint, AuditEvent
-from app.certificates.claims import find_key
-from app.certificates.keys import current_signer, published_keys
-from app.certificates.signer import Signer
 from app.config import Settings
 from app.db import begin_write, utcnow
 from app.errors import Conflict
+from app.trust.claims import find_key
+from app.trust.keys import current_signer, published_keys
+from app.trust.signer import Signer
 
 ALGORITHM = "Ed25519"
 FIELDS = tuple(EventFields.__dataclass_fields__)

@@ -21,7 +21,6 @@ from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
 from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
-from app.certificates.signing import qr_url_of
 from app.certificates.verification_examples import VERIFICATION_EXAMPLES
 from app.certificates.verify_json import payload_param, verification
 from app.certificates.wording import in_force, not_on_record, public_status
@@ -31,6 +30,7 @@ from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.stations.deps import SessionDep, StationDep
 from app.stations.models import Station
+from app.trust.signing import qr_url_of
 
 router = APIRouter(tags=["certificates"])
 NumberPath = Annotated[

@@ -15,14 +15,14 @@ from app.errors import InvalidInput
 from app.ids import cli_id
 
 if TYPE_CHECKING:
-    from app.certificates.claims import Claims
     from app.certificates.wording import PublicStatus
+    from app.trust.claims import Claims
 
 
 def load_keys(source: str | None) -> dict[str, Any]:
     """A published key set from a saved file, an http(s) URL, or (None) this service's database."""
     if source is None:
-        from app.certificates.keys import published_keys
+        from app.trust.keys import published_keys
 
         with get_sessionmaker()() as session:
             return published_keys(session, get_settings())
@@ -51,8 +51,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     service's record is read too.
     """
     from app.certificates.records import verify_base
-    from app.certificates.signing import PayloadRefused, verify_input
     from app.certificates.wording import in_force, status_meaning
+    from app.trust.signing import PayloadRefused, verify_input
     from app.web.formatting import long_date
     from app.wording import document_kind, occupancy_sentence
 
@@ -102,10 +102,10 @@ def record_status(
     """The status of the payload's document in this service's database, with the revocation or the
     replacement in words; None when the number is not on record here. PayloadRefused (tampered)
     when the signed claims are not the record's."""
-    from app.certificates.claims import PayloadRefused
     from app.certificates.records import certificate_status, find_certificate
-    from app.certificates.verification import check_payload
     from app.certificates.wording import public_status
+    from app.trust.claims import PayloadRefused
+    from app.trust.verification import check_payload
     from app.web.formatting import long_date
 
     with get_sessionmaker()() as session:
@@ -170,7 +170,7 @@ def cmd_revoke(args: argparse.Namespace) -> int:
 
 def cmd_rotate(_args: argparse.Namespace) -> int:
     """Retire the active signing key and make a new one; old keys stay published."""
-    from app.certificates.keys import rotate_signing_key
+    from app.trust.keys import rotate_signing_key
 
     with get_sessionmaker()() as session:
         key = rotate_signing_key(session, get_settings())

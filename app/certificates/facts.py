@@ -14,9 +14,9 @@ from typing import Any
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import officer_of, station_shown_as
-from app.certificates.dynamics_facts import EstimateFacts, estimate_facts, estimates_from_json
+from app.dynamics.facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
-from app.inspections.remedies import stored_assessment
+from app.remedies.service import stored_assessment
 from app.stability import case_label
 from app.stability.remedies import Advice, advice_of, size_remedies
 from app.web.formatting import NOT_RECORDED

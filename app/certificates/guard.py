@@ -18,9 +18,10 @@ from typing import Any
 from sqlalchemy import Connection, event, inspect, text
 from sqlalchemy.orm import ORMExecuteState, Session, UOWTransaction
 
-from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, SigningKey
+from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
 from app.errors import Conflict
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.trust.models import SigningKey
 from app.vehicles.models import Vehicle
 
 CERTIFIED: tuple[type[Any], ...] = (Certificate, CertificateRevocation, CertificateAudit)

@@ -1,4 +1,4 @@
-"""Certificate tables: the certificate itself, its revocation, the audit log, the yearly counter, the keys.
+"""Certificate tables: the certificate itself, its revocation, the audit log, the yearly counter.
 
 A certificate row, a revocation row and an audit row are written once and never changed or
 deleted (guard.py in the code, triggers in the database). Revocation is a row of its own;
@@ -23,30 +23,11 @@ from sqlalchemy import (
 )
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
+import app.trust.models  # noqa: F401  (certificate.key_id refers to its signing_key table)
 from app.db import Base, UTCDateTime, utcnow
 
 KINDS = ("compliant", "refusal")
 AUDIT_ACTIONS = ("issue", "reissue", "supersede", "revoke")
-KEY_SOURCES = ("database", "configuration", "file", "pkcs11")
-
-
-class SigningKey(Base):
-    """The public half of an Ed25519 key that signs QR payloads and audit checkpoints; kept for good so
-    old certificates stay verifiable. The private half is held outside the database (keys.py)."""
-
-    __tablename__ = "signing_key"
-    __table_args__ = (CheckConstraint(f"source IN {KEY_SOURCES!r}", name="source"),)
-
-    id: Mapped[int] = mapped_column(primary_key=True)
-    kid: Mapped[str] = mapped_column(String(32), unique=True)
-    public_jwk: Mapped[dict[str, Any]] = mapped_column(JSON)
-    # Where the private key is held (never here): "file", "pkcs11", "configuration"; "database" for a
-    # key made while keys were kept in the database (moved out or destroyed by c27a1e000001).
-    source: Mapped[str] = mapped_column(String(16))
-    # active_history: the stored values are loaded before a change, so guard.py sees a revival.
-    active: Mapped[bool] = mapped_column(Boolean, default=True, active_history=True)
-    created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
-    retired_at: Mapped[datetime | None] = mapped_column(UTCDateTime(), active_history=True)
 
 
 class CertificateSequence(Base):

@@ -3,10 +3,10 @@
 It opens with what it allows: a certificate with a black-framed "CERTIFIED: the driver and up to 2
 passengers", a refusal with a solid red "NOT CERTIFIED: REFUSAL" band and what the vehicle may carry,
 its pages framed in red. Rendered once when the document is issued; the bytes are stored and served
-unchanged while it is in force (pdf_stamp.py stamps a copy once it is not). The text
-is set in Noto Sans (fonts.py), so Yoruba, Hausa and Igbo names print as written; every block is
-measured before it is drawn (pdf_layout.py), so long makes, models, station names and many loading
-cases wrap or move to a second page instead of running into the QR code or the chart.
+unchanged while it is in force (app/documents/stamp.py stamps a copy once it is not). The text is set
+in Noto Sans (app/documents/fonts.py), so Yoruba, Hausa and Igbo names print as written; every block
+is measured before it is drawn (app/documents/layout.py), so long makes, models, station names and
+many loading cases wrap or move to a second page instead of running into the QR code or the chart.
 """
 
 from __future__ import annotations
@@ -18,10 +18,10 @@ from decimal import Decimal
 
 import segno
 
-from app.certificates.chart import Box, chart_height, draw_chart
-from app.certificates.dynamics_pdf import draw_estimates
 from app.certificates.facts import CaseFacts, Facts
-from app.certificates.pdf_layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
+from app.documents.chart import Box, chart_height, draw_chart
+from app.documents.layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
+from app.dynamics.pdf import draw_estimates
 from app.stability import LSF_LIMIT
 from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
 from app.wording import (

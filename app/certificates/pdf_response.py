@@ -1,8 +1,8 @@
 """The PDF as an HTTP answer: the stored bytes while the document is in force, stamped once it is not.
 
 A revoked, superseded or expired document downloads as the stored original with a stamp across
-every page (pdf_stamp.py), never as the clean paper; the response says so in its file name and
-headers. Every answer has an ETag, and a repeat whose copy is current gets 304.
+every page (app/documents/stamp.py), never as the clean paper; the response says so in its file name
+and headers. Every answer has an ETag, and a repeat whose copy is current gets 304.
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ from sqlalchemy.orm import Session
 from starlette.responses import Response
 
 from app.certificates.models import Certificate
-from app.certificates.pdf_stamp import stamp_of, stamped_pdf
 from app.certificates.records import certificate_pdf, certificate_status, verify_base
 from app.certificates.wording import public_status
 from app.config import get_settings
+from app.documents.stamp import stamp_of, stamped_pdf
 
 # certified, refused (in force), revoked, superseded or expired: what the paper shows, in the words
 # of the JSON verification's `status` (a refusal is never "issued" or "valid" to a machine either).

@@ -9,13 +9,13 @@ from fastapi import APIRouter, Path, Response
 from starlette.requests import Request
 from starlette.responses import RedirectResponse
 
-from app.certificates.keys import published_keys
 from app.certificates.officer_views import router as officer_router
 from app.certificates.records import verify_base
 from app.certificates.verify_json import error_json, number_of_payload, wants_json
 from app.certificates.views import router as views_router
 from app.config import get_settings
 from app.errors import InvalidInput
+from app.trust.keys import published_keys
 from app.web.deps import SessionDep
 from app.web.templating import render
 

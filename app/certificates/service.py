@@ -18,13 +18,11 @@ from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor, Forbidden
 from app.certificates.facts import facts_of
-from app.certificates.keys import current_signer
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
 from app.certificates.numbers import parse_number
 from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
-from app.certificates.signing import Claims, issuer_claim, qr_url_of, sign_payload
 from app.certificates.validity import add_months, local_date
 from app.config import Settings
 from app.db import utcnow
@@ -33,6 +31,8 @@ from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
 from app.stations.scale import CalibrationRefused
 from app.text import checked
+from app.trust.keys import current_signer
+from app.trust.signing import Claims, issuer_claim, qr_url_of, sign_payload
 from app.wording import document_kind, verdict_mark
 
 REASON_LENGTH = 1000

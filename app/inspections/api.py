@@ -2,26 +2,22 @@
 
 from __future__ import annotations
 
-from decimal import Decimal
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Body, Query, Request, status
 from fastapi.responses import Response
-from pydantic import BeforeValidator, PlainValidator, WithJsonSchema
+from pydantic import PlainValidator
 
 from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
 from app.api.openapi import REQUIRED_BODY, as_sent
 from app.api.strict_json import StrictJSONRoute
-from app.config import get_settings
+from app.dynamics.estimates import inspection_dynamics
 from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
 from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
-from app.inspections.dynamics import inspection_dynamics
 from app.inspections.record import record_of
-from app.inspections.remedies import inspection_remedies
-from app.inspections.remedy_schemas import RemediesOut, remedies_out
 from app.inspections.schemas import (
     InspectionIn,
     InspectionOut,
@@ -35,7 +31,7 @@ from app.inspections.service import (
     list_inspections,
 )
 from app.inspections.submission import submit_inspection
-from app.numbers import LIMITS, POSITION_SCHEMA, ascii_number_text
+from app.remedies.api import router as remedies_router
 from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
@@ -120,50 +116,8 @@ def read_inspection(
     return inspection_answer(record_of(inspection), estimates)
 
 
-@router.get(
-    "/{inspection_id}/remedies",
-    response_model=RemediesOut,
-    responses={**error_responses(401, 404, 422), **RATE_LIMITED_RESPONSE},
-    summary="What would make the vehicle comply: front ballast, seats forward, stiffer rear tyres",
-)
-@cross_field_rules("remedies_range")
-def read_remedies(
-    inspection_id: InspectionId,
-    session: SessionDep,
-    station: StationDep,
-    target_occupants: Annotated[
-        int | None,
-        Query(
-            ge=0, le=LIMITS.max_seats, description="Occupants to certify for (default: every seat filled)."
-        ),
-    ] = None,
-    ballast_x_m: Annotated[
-        Decimal | None,
-        # A JSON number in the schema, as the body's positions are (the default Decimal schema
-        # also admits any string).
-        WithJsonSchema(POSITION_SCHEMA),
-        BeforeValidator(ascii_number_text),
-        Query(
-            ge=-LIMITS.seat_reach_m,
-            le=LIMITS.max_wheelbase_m + LIMITS.seat_reach_m,
-            allow_inf_nan=False,
-            description="Where the ballast sits, metres behind the front wheel centre (negative: ahead of "
-            "it); default TRIKECERT_BALLAST_X_M.",
-        ),
-    ] = None,
-) -> RemediesOut:
-    """Each remedy sized for every loading case up to the target, from the stored readings (exact;
-    advised figures rounded up so they suffice); every remedy null when the cases already comply.
-    A station reads only its own inspections (others: 404); a target above the seats is a 422."""
-    settings = get_settings()
-    inspection = get_inspection(session, inspection_id, station_id=station.id)
-    remedies = inspection_remedies(
-        inspection,
-        target_occupants=target_occupants,
-        ballast_x_m=settings.ballast_x_m if ballast_x_m is None else ballast_x_m,
-        rules=settings.rules(),
-    )
-    return remedies_out(remedies)
+# Matched between the inspection and the list, where it has always been (app/remedies/api.py).
+router.include_router(remedies_router)
 
 
 @router.get(

@@ -8,7 +8,7 @@ from decimal import Decimal
 
 from starlette.datastructures import FormData
 
-from app.inspections.dynamics_form import LIFT_FIELDS, read_lift
+from app.dynamics.forms import LIFT_FIELDS, read_lift
 from app.inspections.service import InspectionRequest
 from app.stability import MeasuredCase, Seat, WheelReadings
 from app.stability.validation import WHEEL_WORDS

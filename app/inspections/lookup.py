@@ -24,6 +24,8 @@ from typing import Any, cast
 from sqlalchemy import Connection, Table, bindparam, func, literal, select, true
 from sqlalchemy.dialects import postgresql, sqlite
 
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.service import DynamicsFigures
 from app.group_commit import write_and_commit
 from app.idempotency.service import ANSWER_COLUMNS, StoredAnswer
 from app.idempotency.service import KEYS_TABLE as _KEYS
@@ -32,8 +34,6 @@ from app.stability import Seat
 from app.stations.models import Station, StationRateWindow
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import on_conflict_count
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
-from app.vehicles.dynamics_service import DynamicsFigures
 from app.vehicles.models import Seat as SeatRow
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile

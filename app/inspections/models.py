@@ -10,8 +10,8 @@ from sqlalchemy import JSON, Boolean, CheckConstraint, Date, ForeignKey, Index, 
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
+from app.dynamics.models import VehicleDynamicsRevision
 from app.stations.models import Station
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 

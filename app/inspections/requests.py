@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from app.inspections.dynamics import CgLift
+from app.dynamics.estimates import CgLift
 from app.inspections.schemas import InspectionIn, ReadingsIn
 from app.inspections.service import InspectionRequest
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings

@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from app.api.fields import text
-from app.inspections.dynamics_schemas import CaseDynamicsOut, CgHeight, CgLiftIn
+from app.dynamics.schemas import CaseDynamicsOut, CgHeight, CgLiftIn
 from app.numbers import (
     LIMITS,
     MAX_LOAD_ITEMS,

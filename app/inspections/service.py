@@ -13,8 +13,9 @@ from sqlalchemy import ColumnElement, Select, bindparam, func, select
 from sqlalchemy.orm import Session
 
 from app.db import begin_write, utcnow
+from app.dynamics.estimates import CgLift, checked_dynamics, estimate_inputs
+from app.dynamics.service import current_revision
 from app.errors import InvalidInput, NotFound
-from app.inspections.dynamics import CgLift, checked_dynamics, estimate_inputs
 from app.inspections.models import Inspection
 from app.inspections.record import InspectionRecord, Provenance, new_record
 from app.inspections.store import store_record
@@ -39,7 +40,6 @@ from app.stations.scale import (
     check_settled,
     configured_scale_rules,
 )
-from app.vehicles.dynamics_service import current_revision
 from app.vehicles.models import Vehicle
 from app.vehicles.on_file import VehicleOnFile
 from app.vehicles.service import get_vehicle, normalise_registration, valid_key
@@ -56,7 +56,7 @@ class InspectionRequest:
     seats: tuple[Seat, ...] | None = None
     load_items: tuple[LoadItem, ...] = ()
     measured_cases: tuple[MeasuredCase, ...] = field(default_factory=tuple)
-    # For the estimates beyond the static test (app/inspections/dynamics.py): one or neither.
+    # For the estimates beyond the static test (app/dynamics/estimates.py): one or neither.
     cg_lift: CgLift | None = None
     cg_height_m: Decimal | None = None
 

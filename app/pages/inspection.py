@@ -11,12 +11,12 @@ from app.certificates.actors import issued_by, recorded_by
 from app.certificates.facts import calibration_words
 from app.certificates.in_force import why_not_issuable
 from app.certificates.records import certificates_of_inspection
+from app.dynamics.presentation import dynamics_context
 from app.ids import InspectionId
-from app.inspections.dynamics_views import dynamics_context
 from app.inspections.models import Inspection
-from app.inspections.remedy_page import remedies_context
 from app.inspections.service import get_inspection
 from app.inspections.views import result_context
+from app.remedies.views import remedies_context
 from app.web.deps import SessionDep
 from app.web.templating import render
 

@@ -9,10 +9,10 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import CurrentLogin
 from app.certificates.in_force import current_document
+from app.dynamics.views import figures_rows
 from app.errors import NotFound
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections
 from app.inspections.views import result_context
-from app.vehicles.dynamics_views import figures_rows
 from app.vehicles.service import display_registration, find_vehicle
 from app.web.deps import SessionDep
 from app.web.templating import render

@@ -11,6 +11,7 @@ from sqlalchemy.orm import Session
 from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
+from app.dynamics.vehicle_api import dynamics_figures, dynamics_out
 from app.idempotency.http import (
     IdempotencyKeyHeader,
     Remember,
@@ -20,7 +21,6 @@ from app.idempotency.http import (
 )
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
-from app.vehicles.dynamics_api import dynamics_figures, dynamics_out
 from app.vehicles.models import Vehicle
 from app.vehicles.schemas import (
     RegistrationNumber,

@@ -12,7 +12,7 @@ from sqlalchemy.orm import Mapped, mapped_column, relationship
 from app.db import Base, UTCDateTime, utcnow
 
 if TYPE_CHECKING:
-    from app.vehicles.dynamics_models import VehicleDynamicsRevision
+    from app.dynamics.models import VehicleDynamicsRevision
 
 
 class Vehicle(Base):
@@ -33,7 +33,7 @@ class Vehicle(Base):
     seats: Mapped[list[Seat]] = relationship(
         back_populates="vehicle", order_by="Seat.position", cascade="all, delete-orphan", lazy="selectin"
     )
-    # Every version of the figures for the estimates, oldest first (app/vehicles/dynamics_models.py).
+    # Every version of the figures for the estimates, oldest first (app/dynamics/models.py).
     dynamics_revisions: Mapped[list[VehicleDynamicsRevision]] = relationship(
         back_populates="vehicle", order_by="VehicleDynamicsRevision.revision"
     )

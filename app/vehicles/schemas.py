@@ -8,8 +8,8 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
 
 from app.api.fields import identifier, text
+from app.dynamics.schemas import SeatHeight, VehicleDynamicsIn, VehicleDynamicsOut, type_schema
 from app.numbers import LIMITS, POSITION_SCHEMA, WHOLE_NUMBER, Position, Wheelbase
-from app.vehicles.dynamics_schemas import SeatHeight, VehicleDynamicsIn, VehicleDynamicsOut, type_schema
 
 # 2 to 16 letters and digits, with spaces or hyphens between them that are ignored:
 # exactly the registrations the service can normalise (`bdg-252qh` and `BDG 252 QH` are one vehicle).

@@ -10,12 +10,12 @@ from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session, joinedload
 
+from app.dynamics.service import DynamicsFigures, check_figures, new_revision
 from app.errors import Conflict, InvalidInput, NotFound
 from app.stability import Rules, StabilityError
 from app.stability import Seat as StabilitySeat
 from app.stability.validation import check_seat_layout, check_wheelbase
 from app.text import TextRefused, check_text, checked, optional_checked, without_refused
-from app.vehicles.dynamics_service import DynamicsFigures, check_figures, new_revision
 from app.vehicles.models import Seat, Vehicle
 
 MAKE_LENGTH = 80

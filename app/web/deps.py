@@ -58,9 +58,3 @@ async def form_data(request: Request) -> FormData:
 
 
 FormDep = Annotated[FormData, Depends(form_data)]
-
-
-def __getattr__(name: str) -> object:  # TEMPORARY until w-moves is merged: its modules' old imports
-    from app.accounts import deps
-
-    return getattr(deps, name)

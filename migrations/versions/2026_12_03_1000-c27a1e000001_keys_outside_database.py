@@ -125,10 +125,10 @@ def _say(line: str) -> None:
 def _move_keys_out(bind: sa.Connection) -> None:
     """Write the database's active private key to the key file, or retire it where the key is held
     another way; every other private key goes with the column."""
-    from app.certificates.keyfile import default_key_path, read_key_file, write_new_key_file
-    from app.certificates.signer import MemorySigner, parse_private_key
     from app.config import get_settings
     from app.db import utcnow
+    from app.trust.keyfile import default_key_path, read_key_file, write_new_key_file
+    from app.trust.signer import MemorySigner, parse_private_key
 
     rows = bind.execute(
         sa.text("SELECT kid, private_pem, active FROM signing_key WHERE private_pem IS NOT NULL ORDER BY id")

@@ -12,10 +12,10 @@ from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.config import get_settings
-from app.inspections.dynamics import record_input
+from app.dynamics.estimates import record_input
+from app.dynamics.service import revision_figures
 from app.inspections.record import CaseRow, InspectionRecord
 from app.stability.dynamics import assess_dynamics
-from app.vehicles.dynamics_service import revision_figures
 
 ILLUSTRATIVE: dict[str, Any] = {
     **STUDY_VEHICLE,

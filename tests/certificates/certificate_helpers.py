@@ -9,10 +9,10 @@ from fastapi.testclient import TestClient
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.certificates import service
-from app.certificates.jws import sign_jws
-from app.certificates.keys import okp_key
-from app.certificates.signer import MemorySigner
-from app.certificates.signing import Claims
+from app.trust.jws import sign_jws
+from app.trust.keys import okp_key
+from app.trust.signer import MemorySigner
+from app.trust.signing import Claims
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"

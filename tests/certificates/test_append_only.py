@@ -17,11 +17,11 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS
 
 from app.certificates.guard import ImmutableRecord
-from app.certificates.keys import rotate_signing_key
-from app.certificates.models import SigningKey
 from app.config import get_settings
 from app.db import utcnow
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.trust.keys import rotate_signing_key
+from app.trust.models import SigningKey
 
 # Each protected table and a column to rewrite.
 PROTECTED = {

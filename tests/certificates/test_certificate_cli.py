@@ -22,10 +22,11 @@ from sqlalchemy.orm import Session
 
 from app import config
 from app.certificates.actors import Actor
-from app.certificates.keys import kid_of, okp_key, private_pem
-from app.certificates.models import CertificateAudit, SigningKey
+from app.certificates.models import CertificateAudit
 from app.certificates.service import revoke_certificate
 from app.cli import main
+from app.trust.keys import kid_of, okp_key, private_pem
+from app.trust.models import SigningKey
 from app.web.formatting import long_date
 
 

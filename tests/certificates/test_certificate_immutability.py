@@ -14,9 +14,10 @@ from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
 from app.certificates.guard import ImmutableRecord
-from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, SigningKey
+from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
 from app.certificates.records import get_certificate
 from app.certificates.service import revoke_certificate
+from app.trust.models import SigningKey
 
 
 @pytest.fixture

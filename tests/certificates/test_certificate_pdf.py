@@ -13,7 +13,7 @@ from fastapi.testclient import TestClient
 from PIL import Image
 from pypdf import PdfReader
 
-from app.certificates.signing import PayloadRefused, verify_input
+from app.trust.signing import PayloadRefused, verify_input
 
 
 def pdf_of(api: TestClient, number: str) -> bytes:

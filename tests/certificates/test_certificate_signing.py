@@ -12,12 +12,12 @@ import pytest
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
 
-from app.certificates.jws import sign_jws as sign_claims
-from app.certificates.jws import verify_jws as verify_token
-from app.certificates.keys import kid_of, okp_key, parse_private_key, private_pem, public_jwk
 from app.certificates.numbers import CertificateNumber
-from app.certificates.signing import Claims, PayloadRefused, verify_input
 from app.errors import InvalidInput
+from app.trust.jws import sign_jws as sign_claims
+from app.trust.jws import verify_jws as verify_token
+from app.trust.keys import kid_of, okp_key, parse_private_key, private_pem, public_jwk
+from app.trust.signing import Claims, PayloadRefused, verify_input
 
 NUMBER = str(CertificateNumber(2026, 123))
 CLAIMS = Claims(NUMBER, "BDG 252 QH", date(2026, 11, 23), date(2027, 11, 23), "NC", 1)

@@ -12,10 +12,10 @@ import cbor2
 import pytest
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 
-from app.certificates.cwt import kid_bytes, sign_cwt
-from app.certificates.keys import kid_of, okp_key, public_jwk
 from app.certificates.numbers import CertificateNumber
-from app.certificates.signing import Claims, PayloadRefused, issuer_claim, verify_payload
+from app.trust.cwt import kid_bytes, sign_cwt
+from app.trust.keys import kid_of, okp_key, public_jwk
+from app.trust.signing import Claims, PayloadRefused, issuer_claim, verify_payload
 
 NUMBER = CertificateNumber(2026, 123)
 ISSUED, EXPIRES = datetime(2026, 11, 23, 9, tzinfo=UTC), datetime(2027, 11, 23, 9, tzinfo=UTC)

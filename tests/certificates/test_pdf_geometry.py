@@ -26,9 +26,9 @@ from study_data import STUDY_READINGS, STUDY_VEHICLE
 import app.certificates.service as service
 from app.certificates.actors import Actor
 from app.certificates.pdf import CertificateDocument, render_with_layout
-from app.certificates.pdf_layout import MARGIN, Layout, Region
 from app.certificates.service import revoke_certificate
 from app.config import get_settings
+from app.documents.layout import MARGIN, Layout, Region
 from app.stations.details import StationDetails
 from app.stations.service import create_station
 

@@ -35,8 +35,8 @@ from app.certificates.actors import Actor
 from app.certificates.facts import CaseFacts
 from app.certificates.models import Certificate
 from app.certificates.pdf import HEADLINE_PAD, HEADLINE_SIZE, places_for, refusal_reason
-from app.certificates.pdf_layout import MARGIN, line_height
 from app.certificates.service import revoke_certificate
+from app.documents.layout import MARGIN, line_height
 from app.web.formatting import long_date
 
 REPO = Path(__file__).resolve().parents[2]

@@ -19,9 +19,9 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
 from PIL import Image
 
-from app.certificates.jws import sign_jws
-from app.certificates.keys import kid_of, okp_key
-from app.certificates.signing import Claims, legacy_qr_url, verify_input
+from app.trust.jws import sign_jws
+from app.trust.keys import kid_of, okp_key
+from app.trust.signing import Claims, legacy_qr_url, verify_input
 
 TOOLS = ("zbarimg", "pdftoppm", "convert")
 pytestmark = pytest.mark.skipif(

@@ -26,14 +26,14 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS
 
 from app import config
-from app.certificates.keyfile import default_key_path, read_key_file
-from app.certificates.keys import kid_of, okp_key, public_jwk
-from app.certificates.models import SigningKey
-from app.certificates.signer import MemorySigner, private_pem
 from app.cli import main
 from app.config import Settings
 from app.db import make_engine
 from app.migrate import alembic_config, upgrade
+from app.trust.keyfile import default_key_path, read_key_file
+from app.trust.keys import kid_of, okp_key, public_jwk
+from app.trust.models import SigningKey
+from app.trust.signer import MemorySigner, private_pem
 
 BEFORE = "a9c3e5f7b201"  # the revision before the key left the database
 INSERT_DATABASE_KEY = text(

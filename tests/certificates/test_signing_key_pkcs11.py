@@ -20,9 +20,9 @@ from sqlalchemy.orm import Session
 
 from app import config
 from app.audit.models import AuditCheckpoint
-from app.certificates.keys import key_store
-from app.certificates.models import SigningKey
 from app.cli import main
+from app.trust.keys import key_store
+from app.trust.models import SigningKey
 
 MODULES = ("/usr/lib/softhsm/libsofthsm2.so", "/usr/lib/x86_64-linux-gnu/softhsm/libsofthsm2.so")
 PIN = "4711-trikecert"

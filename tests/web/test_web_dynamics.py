@@ -14,7 +14,7 @@ from sqlalchemy.orm import Session
 
 from app.audit.models import AuditEvent
 from app.config import get_settings
-from app.vehicles.dynamics_models import VehicleDynamicsRevision
+from app.dynamics.models import VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 from app.web.chart import MapPoint, map_geometry
 from web.webtools import STUDY_READINGS, post_form

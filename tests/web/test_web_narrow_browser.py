@@ -20,13 +20,13 @@ from app.accounts.models import User
 from app.certificates.actors import Actor
 from app.certificates.service import issue_certificate, revoke_certificate
 from app.config import get_settings
-from app.inspections.dynamics import CgLift
+from app.dynamics.estimates import CgLift
+from app.dynamics.service import DynamicsFigures, record_figures
 from app.inspections.service import InspectionRequest, record_inspection
 from app.stability import WheelReadings
 from app.stations.details import StationDetails
 from app.stations.service import create_station
 from app.type_assessments.service import TypeRequest, create_type_assessment
-from app.vehicles.dynamics_service import DynamicsFigures, record_figures
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
 from web.webtools import ADMIN_EMAIL, PASSWORD, SCREENSHOTS, STUDY_SEATS, TAKE_SCREENSHOTS, weigh_study_fleet

@@ -16,7 +16,7 @@ from typing import Any
 from fpdf import FPDF
 from fpdf.line_break import Fragment
 
-from app.certificates import fonts
+from app.documents import fonts
 
 MARGIN = 15.0
 PAGE_W = 210.0

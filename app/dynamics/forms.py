@@ -5,7 +5,7 @@ from __future__ import annotations
 from decimal import Decimal
 from typing import Protocol
 
-from app.inspections.dynamics import CgLift
+from app.dynamics.estimates import CgLift
 from app.web.forms import FormErrors, parse_decimal
 
 LIFT_READINGS = 3

@@ -7,14 +7,14 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Any
 
-from app.certificates.claims import Claims, PayloadRefused, Verified
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_status
 from app.certificates.schemas import VerificationOut
-from app.certificates.signing import verify_input
 from app.certificates.validity import local_date
 from app.certificates.wording import in_force, public_kind, public_status
-from app.inspections.wording import verdict_mark
+from app.trust.claims import Claims, PayloadRefused, Verified
+from app.trust.signing import verify_input
+from app.wording import verdict_mark
 
 
 @dataclass(frozen=True)

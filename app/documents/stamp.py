@@ -26,14 +26,14 @@ from fpdf import FPDF
 from fpdf.enums import TextMode
 from pypdf import PdfReader, PdfWriter
 
-from app.certificates import fonts
 from app.certificates.models import Certificate
 from app.certificates.pdf import HEADLINE_PAD
 from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
-from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
 from app.certificates.records import Status
-from app.inspections.wording import document_kind, status_headline_on
+from app.documents import fonts
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
 from app.web.formatting import long_date
+from app.wording import document_kind, status_headline_on
 
 STAMP_RGB = (176, 0, 0)
 BAND_TOP = 5.0  # mm: the band fills the top margin, clear of the edge a printer cannot print

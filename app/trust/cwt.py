@@ -37,11 +37,11 @@ import cbor2
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
-from app.certificates.claims import Claims, DocumentKind, PayloadRefused, Verified, find_key, tampered
 from app.certificates.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
-from app.certificates.signer import SignsBytes
 from app.certificates.validity import local_date
-from app.inspections.wording import verdict_mark
+from app.trust.claims import Claims, DocumentKind, PayloadRefused, Verified, find_key, tampered
+from app.trust.signer import SignsBytes
+from app.wording import verdict_mark
 
 COSE_SIGN1_TAG = 18
 EDDSA = -8  # COSE algorithm EdDSA; with an OKP Ed25519 key it is Ed25519

@@ -11,6 +11,7 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
+from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 from app.errors import InvalidInput
 from app.inspections.models import Inspection
 from app.inspections.record import InspectionRecord, record_of
@@ -24,7 +25,6 @@ from app.stability.dynamics import (
     assess_dynamics,
 )
 from app.stability.validation import check_number
-from app.vehicles.dynamics_service import DynamicsFigures, core_figures, revision_figures
 
 
 @dataclass(frozen=True)

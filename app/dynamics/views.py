@@ -10,13 +10,14 @@ from starlette.datastructures import FormData
 from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
+from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
+from app.dynamics.models import DYNAMICS_FIELDS
+from app.dynamics.service import DynamicsFigures, record_figures, revision_figures, seat_heights
 from app.errors import NotFound, ServiceError
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS
-from app.vehicles.dynamics_service import DynamicsFigures, record_figures, revision_figures, seat_heights
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
-from app.web.deps import CurrentLogin, FormDep, PostLogin, SessionDep
+from app.web.deps import FormDep, SessionDep
 from app.web.formatting import NOT_RECORDED, or_not_recorded
 from app.web.forms import FormErrors, parse_decimal, text
 from app.web.templating import render

@@ -8,8 +8,8 @@ from decimal import Decimal
 from markupsafe import Markup
 
 from app.config import get_settings
-from app.inspections.dynamics import inspection_dynamics
-from app.inspections.dynamics_wording import (
+from app.dynamics.estimates import inspection_dynamics
+from app.dynamics.wording import (
     SECTION_LEAD,
     SECTION_TITLE,
     UNKNOWN,
@@ -19,10 +19,10 @@ from app.inspections.dynamics_wording import (
     readings_text,
 )
 from app.inspections.models import Inspection
-from app.inspections.wording import case_name
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
 from app.web.formatting import NOT_RECORDED
+from app.wording import case_name
 
 
 @dataclass(frozen=True)

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 from typing import Any
 from urllib.parse import quote, unquote, urlsplit
 
-from app.certificates.claims import Claims, PayloadRefused, Verified
-from app.certificates.cwt import sign_cwt, verify_cwt
-from app.certificates.jws import looks_like_jws, verify_jws
 from app.certificates.numbers import normalise
-from app.certificates.signer import SignsBytes
+from app.trust.claims import Claims, PayloadRefused, Verified
+from app.trust.cwt import sign_cwt, verify_cwt
+from app.trust.jws import looks_like_jws, verify_jws
+from app.trust.signer import SignsBytes
 
 __all__ = [
     "Claims",

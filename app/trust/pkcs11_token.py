@@ -19,8 +19,8 @@ from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import Any
 
-from app.certificates.signer import KeyUnavailable, kid_of_jwk
 from app.config import Settings
+from app.trust.signer import KeyUnavailable, kid_of_jwk
 
 ED25519_OID = "1.3.101.112"
 PENDING = ".new"

@@ -10,16 +10,16 @@ from typing import Any
 from starlette.datastructures import QueryParams
 
 from app.config import get_settings
-from app.inspections.dynamics import inspection_dynamics
-from app.inspections.dynamics_wording import figure_text
+from app.dynamics.estimates import inspection_dynamics
+from app.dynamics.wording import figure_text
 from app.inspections.models import Inspection
-from app.inspections.remedies import stored_assessment
-from app.inspections.wording import case_name, remedies_sentence, remedy_applied
+from app.remedies.service import stored_assessment
 from app.stability import StabilityError
 from app.stability.dynamics import rollover_after_remedy
 from app.stability.remedies import Remedies, advice_of, complies, size_remedies
 from app.web.chart import ChartPoint, before_after_chart, short_label
 from app.web.forms import FormErrors, parse_decimal, query_text, readable
+from app.wording import case_name, remedies_sentence, remedy_applied
 
 REMEDIES = {"ballast": "Fitting front ballast", "seat_shift": "Moving the rear bench forward"}
 FIELDS = ("target_occupants", "ballast_x_m", "remedy")

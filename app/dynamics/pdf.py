@@ -6,14 +6,14 @@ is only drawn, with the PDF library's own primitives and the document's embedded
 
 from __future__ import annotations
 
-from app.certificates import fonts
-from app.certificates.chart import Box
-from app.certificates.dynamics_facts import EstimateFacts
-from app.certificates.pdf_layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
-from app.inspections.dynamics_wording import SECTION_LEAD, SECTION_TITLE
-from app.inspections.wording import case_name
+from app.documents import fonts
+from app.documents.chart import Box
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
+from app.dynamics.facts import EstimateFacts
+from app.dynamics.wording import SECTION_LEAD, SECTION_TITLE
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
+from app.wording import case_name
 
 HEADINGS = ("Occupants", "Centre of gravity height", "Rollover threshold", "Tilt angle", "Critical speed")
 WIDTHS = (46.0, 34.0, 30.0, 24.0, 46.0)

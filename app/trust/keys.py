@@ -21,11 +21,13 @@ from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from app.certificates.cwt import EDDSA, kid_bytes
-from app.certificates.jws import ALGORITHM
-from app.certificates.keyfile import KeyFile, default_key_path
-from app.certificates.models import SigningKey
-from app.certificates.signer import (
+from app.config import Settings
+from app.db import utcnow
+from app.trust.cwt import EDDSA, kid_bytes
+from app.trust.jws import ALGORITHM
+from app.trust.keyfile import KeyFile, default_key_path
+from app.trust.models import SigningKey
+from app.trust.signer import (
     KID_LENGTH,
     ConfiguredKey,
     KeyStore,
@@ -34,8 +36,6 @@ from app.certificates.signer import (
     parse_private_key,
     private_pem,
 )
-from app.config import Settings
-from app.db import utcnow
 
 __all__ = [
     "KID_LENGTH",
@@ -74,7 +74,7 @@ def key_store(settings: Settings) -> KeyStore:
     if settings.signing_key is not None:
         return ConfiguredKey(settings.signing_key.get_secret_value())
     if settings.pkcs11_module is not None:
-        from app.certificates.pkcs11_token import token_store
+        from app.trust.pkcs11_token import token_store
 
         return token_store(settings)
     return KeyFile(default_key_path(settings))

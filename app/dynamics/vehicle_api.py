@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
-from app.vehicles.dynamics_schemas import VehicleDynamicsIn, VehicleDynamicsOut
-from app.vehicles.dynamics_service import DynamicsFigures, seat_heights
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.schemas import VehicleDynamicsIn, VehicleDynamicsOut
+from app.dynamics.service import DynamicsFigures, seat_heights
 from app.vehicles.models import Vehicle
 
 

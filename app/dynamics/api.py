@@ -9,11 +9,11 @@ from fastapi import APIRouter, Query
 from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
+from app.dynamics.estimates import inspection_dynamics, lift_inputs
+from app.dynamics.schemas import CaseAtSpeedOut, DynamicsInputsOut, DynamicsOut
 from app.errors import InvalidInput
 from app.ids import InspectionId
 from app.inspections.answer import case_figures, rounded
-from app.inspections.dynamics import inspection_dynamics, lift_inputs
-from app.inspections.dynamics_schemas import CaseAtSpeedOut, DynamicsInputsOut, DynamicsOut
 from app.inspections.service import get_inspection
 from app.stability import StabilityError, case_label
 from app.stability.dynamics import G, at_speed

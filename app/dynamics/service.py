@@ -10,10 +10,10 @@ from sqlalchemy import func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
+from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.errors import Conflict, InvalidInput
 from app.stability import StabilityError
 from app.stability.dynamics import VehicleDynamics, check_vehicle
-from app.vehicles.dynamics_models import DYNAMICS_FIELDS, VehicleDynamicsRevision
 from app.vehicles.models import Vehicle
 
 # Decimal places each figure is stored to (metres to 0.1 mm, stiffness to 0.1 N/rad).

@@ -16,8 +16,8 @@ from pathlib import Path
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from sqlalchemy.engine import make_url
 
-from app.certificates.signer import KeyUnavailable, MemorySigner, parse_private_key, private_pem
 from app.config import Settings
+from app.trust.signer import KeyUnavailable, MemorySigner, parse_private_key, private_pem
 
 DEFAULT_NAME = "trikecert-signing-key.pem"
 

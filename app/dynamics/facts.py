@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from app.config import get_settings
-from app.inspections.dynamics_views import estimates
+from app.dynamics.presentation import estimates
 from app.inspections.models import Inspection
 from app.web.chart import MapPoint, short_label
 

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 from fpdf import FPDF
 
-from app.certificates import fonts
 from app.certificates.facts import CaseFacts
-from app.inspections.wording import verdict_mark
+from app.documents import fonts
 from app.stability import LSF_LIMIT
 from app.web.chart import short_label
+from app.wording import verdict_mark
 
 LIMIT = float(LSF_LIMIT)
 STEP = 0.05
