@@ -25,6 +25,7 @@ from app.inspections.service import count_matches_with
 from app.inspections.views import router as inspections_router
 from app.pages.inspection import router as inspection_page_router
 from app.pages.vehicle import router as vehicle_page_router
+from app.remedies.api import router as remedies_api_router
 from app.stations.views import router as stations_router
 from app.statistics.matching import count_matching_inspections
 from app.statistics.views import router as statistics_router
@@ -41,6 +42,7 @@ hot_router = APIRouter(prefix="/api/v1", responses=UNAVAILABLE_RESPONSE)
 hot_router.include_router(submission_router)
 api_router.include_router(vehicles_api_router)
 api_router.include_router(inspections_api_router)
+api_router.include_router(remedies_api_router)
 api_router.include_router(dynamics_api_router)
 api_router.include_router(certificates_api_router)
 api_router.include_router(audit_api_router)

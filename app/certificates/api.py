@@ -16,7 +16,6 @@ from app.api.errors import error_responses
 from app.certificates.actors import Actor
 from app.certificates.issuer import issuer_of
 from app.certificates.models import Certificate
-from app.certificates.numbers import parse_number
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
 from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
@@ -30,6 +29,7 @@ from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.stations.deps import SessionDep, StationDep
 from app.stations.models import Station
+from app.trust.numbers import parse_number
 from app.trust.signing import qr_url_of
 
 router = APIRouter(tags=["certificates"])

@@ -85,9 +85,9 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 def offline_status(claims: Claims) -> PublicStatus:
     """The status the signed claims alone give: certified or refused until the expiry, then expired."""
-    from app.certificates.validity import local_date
     from app.certificates.wording import public_status
     from app.db import utcnow
+    from app.trust.validity import local_date
 
     now = utcnow()
     lapsed = now >= claims.expires_at if claims.expires_at is not None else claims.expires < local_date(now)
@@ -103,9 +103,9 @@ def record_status(
     replacement in words; None when the number is not on record here. PayloadRefused (tampered)
     when the signed claims are not the record's."""
     from app.certificates.records import certificate_status, find_certificate
+    from app.certificates.verification import check_payload
     from app.certificates.wording import public_status
     from app.trust.claims import PayloadRefused
-    from app.trust.verification import check_payload
     from app.web.formatting import long_date
 
     with get_sessionmaker()() as session:

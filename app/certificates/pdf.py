@@ -3,7 +3,7 @@
 It opens with what it allows: a certificate with a black-framed "CERTIFIED: the driver and up to 2
 passengers", a refusal with a solid red "NOT CERTIFIED: REFUSAL" band and what the vehicle may carry,
 its pages framed in red. Rendered once when the document is issued; the bytes are stored and served
-unchanged while it is in force (app/documents/stamp.py stamps a copy once it is not). The text is set
+unchanged while it is in force (app/certificates/stamp.py stamps a copy once it is not). The text is set
 in Noto Sans (app/documents/fonts.py), so Yoruba, Hausa and Igbo names print as written; every block
 is measured before it is drawn (app/documents/layout.py), so long makes, models, station names and
 many loading cases wrap or move to a second page instead of running into the QR code or the chart.

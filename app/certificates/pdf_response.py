@@ -1,7 +1,7 @@
 """The PDF as an HTTP answer: the stored bytes while the document is in force, stamped once it is not.
 
 A revoked, superseded or expired document downloads as the stored original with a stamp across
-every page (app/documents/stamp.py), never as the clean paper; the response says so in its file name
+every page (app/certificates/stamp.py), never as the clean paper; the response says so in its file name
 and headers. Every answer has an ETag, and a repeat whose copy is current gets 304.
 """
 
@@ -12,9 +12,9 @@ from starlette.responses import Response
 
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_pdf, certificate_status, verify_base
+from app.certificates.stamp import stamp_of, stamped_pdf
 from app.certificates.wording import public_status
 from app.config import get_settings
-from app.documents.stamp import stamp_of, stamped_pdf
 
 # certified, refused (in force), revoked, superseded or expired: what the paper shows, in the words
 # of the JSON verification's `status` (a refusal is never "issued" or "valid" to a machine either).

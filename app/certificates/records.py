@@ -10,11 +10,11 @@ from sqlalchemy.orm import Session
 
 from app.certificates.facts import Facts
 from app.certificates.models import Certificate, CertificateAudit
-from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.wording import not_on_record
 from app.config import Settings
 from app.db import utcnow
 from app.errors import NotFound
+from app.trust.numbers import InvalidNumber, parse_number
 
 Status = Literal["issued", "revoked", "superseded", "expired"]
 

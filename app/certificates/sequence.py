@@ -16,8 +16,8 @@ from sqlalchemy.dialects.sqlite import insert as sqlite_insert
 from sqlalchemy.orm import Session
 
 from app.certificates.models import CertificateSequence
-from app.certificates.numbers import MAX_SEQUENCE, CertificateNumber
 from app.errors import Conflict
+from app.trust.numbers import MAX_SEQUENCE, CertificateNumber
 
 
 def allocate_number(session: Session, year: int) -> CertificateNumber:

@@ -19,11 +19,9 @@ from sqlalchemy.orm import Session
 from app.certificates.actors import Actor, Forbidden
 from app.certificates.facts import facts_of
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
-from app.certificates.numbers import parse_number
 from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
-from app.certificates.validity import add_months, local_date
 from app.config import Settings
 from app.db import utcnow
 from app.errors import Conflict, InvalidInput
@@ -32,7 +30,9 @@ from app.inspections.service import get_inspection
 from app.stations.scale import CalibrationRefused
 from app.text import checked
 from app.trust.keys import current_signer
+from app.trust.numbers import parse_number
 from app.trust.signing import Claims, issuer_claim, qr_url_of, sign_payload
+from app.trust.validity import add_months, local_date
 from app.wording import document_kind, verdict_mark
 
 REASON_LENGTH = 1000

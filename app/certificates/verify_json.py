@@ -11,13 +11,13 @@ from app.api.errors import ErrorOut, FieldProblemOut
 from app.certificates.models import Certificate
 from app.certificates.records import get_certificate
 from app.certificates.schemas import VerificationOut
+from app.certificates.verification import check_payload, verification_of
 from app.config import get_settings
 from app.errors import InvalidInput, ServiceError
 from app.trust.claims import PayloadRefused
 from app.trust.cwt import unverified_number
 from app.trust.keys import published_keys
 from app.trust.signing import query_values, verify_payload
-from app.trust.verification import check_payload, verification_of
 
 JSON = "application/json"
 

@@ -10,8 +10,8 @@ from starlette.responses import RedirectResponse, Response
 
 from app import wording
 from app.certificates.models import Certificate
-from app.certificates.numbers import InvalidNumber, parse_number
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
+from app.certificates.verification import PayloadCheck, check_payload
 from app.certificates.verify_json import payload_param, verification_json, wants_json
 from app.certificates.wording import (
     NumberRule,
@@ -26,7 +26,7 @@ from app.config import get_settings
 from app.errors import NotFound
 from app.text import without_refused
 from app.trust.keys import published_keys
-from app.trust.verification import PayloadCheck, check_payload
+from app.trust.numbers import InvalidNumber, parse_number
 from app.web.deps import SessionDep
 from app.web.formatting import long_date
 from app.web.forms import FormErrors, query_text

@@ -10,14 +10,27 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from decimal import Decimal
+from typing import Protocol
 
 from fpdf import FPDF
 
-from app.certificates.facts import CaseFacts
 from app.documents import fonts
 from app.stability import LSF_LIMIT
 from app.web.chart import short_label
 from app.wording import verdict_mark
+
+
+class ChartCase(Protocol):
+    """What the chart reads of one loading case (the certificate's CaseFacts, say)."""
+
+    @property
+    def occupants(self) -> int: ...
+    @property
+    def lsf(self) -> Decimal: ...
+    @property
+    def compliant(self) -> bool: ...
+
 
 LIMIT = float(LSF_LIMIT)
 STEP = 0.05
@@ -60,7 +73,7 @@ def chart_height(room: float) -> float | None:
     return height if height >= MIN_H else None
 
 
-def draw_chart(pdf: FPDF, box: Box, cases: Sequence[CaseFacts]) -> tuple[float, float, float, float]:
+def draw_chart(pdf: FPDF, box: Box, cases: Sequence[ChartCase]) -> tuple[float, float, float, float]:
     """Draw the chart of LSF per loading case below `box.y`; returns the area it covers (x, y, w, h)."""
     box = Box(box.x, box.y + ABOVE, box.w, box.h)
     values = [float(case.lsf) for case in cases]

@@ -31,7 +31,6 @@ from app.inspections.service import (
     list_inspections,
 )
 from app.inspections.submission import submit_inspection
-from app.remedies.api import router as remedies_router
 from app.stations.deps import BEARER_SCHEME, AuthorizationHeader, SessionDep, StationDep, bearer_key
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.vehicles.schemas import RegistrationNumber
@@ -39,7 +38,7 @@ from app.vehicles.schemas import RegistrationNumber
 # The body as parsed JSON: validated as InspectionIn in the handler, after the key is checked and counted.
 SubmissionBody = Annotated[Any, PlainValidator(as_sent, json_schema_input_type=InspectionIn), Body()]
 router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
-# The stations' hot path alone, so the app can match it before any other route (app/api/router.py).
+# The stations' hot path alone, so the app can match it before any other route (app/composition.py).
 submission_router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
 
 
@@ -114,10 +113,6 @@ def read_inspection(
     inspection = get_inspection(session, inspection_id, station_id=station.id)
     _inputs, estimates = inspection_dynamics(inspection)
     return inspection_answer(record_of(inspection), estimates)
-
-
-# Matched between the inspection and the list, where it has always been (app/remedies/api.py).
-router.include_router(remedies_router)
 
 
 @router.get(

@@ -1,4 +1,4 @@
-"""Station API for an inspection's remedies: what would make the vehicle comply, sized from its readings."""
+"""Station API for an inspection's remedies: what would make the vehicle comply, sized per case."""
 
 from __future__ import annotations
 
@@ -20,8 +20,8 @@ from app.remedies.service import inspection_remedies
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 
-# Included by the inspections router (app/inspections/api.py), whose prefix and tags it takes.
-router = APIRouter(route_class=StrictJSONRoute)
+# Mounted right after the inspections' own router (app/composition.py), where its route always was.
+router = APIRouter(prefix="/inspections", tags=["inspections"], route_class=StrictJSONRoute)
 
 
 @router.get(

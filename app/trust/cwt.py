@@ -37,10 +37,10 @@ import cbor2
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
-from app.certificates.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
-from app.certificates.validity import local_date
 from app.trust.claims import Claims, DocumentKind, PayloadRefused, Verified, find_key, tampered
+from app.trust.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
 from app.trust.signer import SignsBytes
+from app.trust.validity import local_date
 from app.wording import verdict_mark
 
 COSE_SIGN1_TAG = 18

@@ -18,8 +18,8 @@ from joserfc import jws
 from joserfc.errors import JoseError
 from joserfc.jwk import OKPKey
 
-from app.certificates.numbers import InvalidNumber, parse_number
 from app.trust.claims import Claims, PayloadRefused, Verdict, Verified, find_key, tampered
+from app.trust.numbers import InvalidNumber, parse_number
 
 ALGORITHM = "Ed25519"
 _SHAPE = re.compile(r"^[A-Za-z0-9_=-]*\.[A-Za-z0-9_=-]*\.[A-Za-z0-9_=-]*$")

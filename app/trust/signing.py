@@ -13,10 +13,10 @@ from dataclasses import dataclass
 from typing import Any
 from urllib.parse import quote, unquote, urlsplit
 
-from app.certificates.numbers import normalise
 from app.trust.claims import Claims, PayloadRefused, Verified
 from app.trust.cwt import sign_cwt, verify_cwt
 from app.trust.jws import looks_like_jws, verify_jws
+from app.trust.numbers import normalise
 from app.trust.signer import SignsBytes
 
 __all__ = [

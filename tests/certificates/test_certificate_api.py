@@ -12,8 +12,8 @@ from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, regi
 from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
-from app.certificates.numbers import is_valid_number
 from app.stations.service import create_station
+from app.trust.numbers import is_valid_number
 
 NUMBER = re.compile(r"^TRK-\d{4}-\d{6}-[A-Z]$")
 

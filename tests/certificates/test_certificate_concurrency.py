@@ -14,9 +14,9 @@ from study_data import STUDY_VEHICLE
 from app import db
 from app.certificates.actors import Actor
 from app.certificates.models import Certificate
-from app.certificates.numbers import parse_number
 from app.certificates.service import issue_certificate
 from app.config import get_settings
+from app.trust.numbers import parse_number
 
 T = TypeVar("T")
 THREADS = 6

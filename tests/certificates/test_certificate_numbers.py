@@ -8,7 +8,7 @@ import string
 
 import pytest
 
-from app.certificates.numbers import (
+from app.trust.numbers import (
     CHECK_ALPHABET,
     MODULUS,
     CertificateNumber,

@@ -12,11 +12,11 @@ import pytest
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
 
-from app.certificates.numbers import CertificateNumber
 from app.errors import InvalidInput
 from app.trust.jws import sign_jws as sign_claims
 from app.trust.jws import verify_jws as verify_token
 from app.trust.keys import kid_of, okp_key, parse_private_key, private_pem, public_jwk
+from app.trust.numbers import CertificateNumber
 from app.trust.signing import Claims, PayloadRefused, verify_input
 
 NUMBER = str(CertificateNumber(2026, 123))

@@ -11,10 +11,10 @@ from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
-from app.certificates.numbers import CertificateNumber
 from app.certificates.service import issue_certificate
 from app.config import get_settings
 from app.db import utcnow
+from app.trust.numbers import CertificateNumber
 from app.web.formatting import long_date
 
 

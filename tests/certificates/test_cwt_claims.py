@@ -12,9 +12,9 @@ import cbor2
 import pytest
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 
-from app.certificates.numbers import CertificateNumber
 from app.trust.cwt import kid_bytes, sign_cwt
 from app.trust.keys import kid_of, okp_key, public_jwk
+from app.trust.numbers import CertificateNumber
 from app.trust.signing import Claims, PayloadRefused, issuer_claim, verify_payload
 
 NUMBER = CertificateNumber(2026, 123)

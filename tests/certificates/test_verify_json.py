@@ -28,13 +28,13 @@ from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
-from app.certificates.numbers import CertificateNumber, is_valid_number
 from app.certificates.schemas import VerificationOut
 from app.certificates.service import issue_certificate, revoke_certificate
-from app.certificates.validity import local_date
 from app.cli import main
 from app.config import get_settings
 from app.db import utcnow
+from app.trust.numbers import CertificateNumber, is_valid_number
+from app.trust.validity import local_date
 
 JSON = {"Accept": "application/json"}
 FIELDS = {

@@ -14,8 +14,8 @@ from fastapi.testclient import TestClient
 
 from app import config
 from app.api import address_limits
-from app.certificates.numbers import CertificateNumber, parse_number
 from app.main import create_app
+from app.trust.numbers import CertificateNumber, parse_number
 
 JSON = {"Accept": "application/json"}
 HTML = {"Accept": "text/html,application/xhtml+xml,*/*;q=0.8"}

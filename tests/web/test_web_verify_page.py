@@ -24,10 +24,10 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.certificates.actors import Actor
-from app.certificates.numbers import check_letter
 from app.certificates.service import issue_certificate, revoke_certificate
 from app.config import get_settings
 from app.db import utcnow
+from app.trust.numbers import check_letter
 from web.webtools import REPO, axe_violations
 
 pytestmark = pytest.mark.browser

@@ -10,10 +10,10 @@ from typing import Any
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_status
 from app.certificates.schemas import VerificationOut
-from app.certificates.validity import local_date
 from app.certificates.wording import in_force, public_kind, public_status
 from app.trust.claims import Claims, PayloadRefused, Verified
 from app.trust.signing import verify_input
+from app.trust.validity import local_date
 from app.wording import verdict_mark
 
 
