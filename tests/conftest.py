@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
+from password_cost import cheap_password_hashing
+from regex_classes import keep_character_classes
 from sqlalchemy import Engine, create_engine, text, update
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
@@ -90,6 +92,20 @@ def _server_left_as_found() -> Iterator[None]:
     yield
     left = sorted(f for f in _server_objects(server_url) - before if not _made_by_another_run(f))
     assert left == [], f"the run left these on the PostgreSQL server: {', '.join(left)}"
+
+
+def pytest_collection(session: pytest.Session) -> None:
+    """Before collecting (pytest has started): Hypothesis keeps each regex character class's strategy
+    (tests/regex_classes.py), which tests/api/test_schemathesis.py builds while being collected."""
+    keep_character_classes()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _cheap_password_hashing() -> Iterator[None]:
+    """Argon2 at its cheapest in the tests' process (tests/password_cost.py says why and where the
+    production parameters are checked)."""
+    with cheap_password_hashing():
+        yield
 
 
 @pytest.hookimpl(wrapper=True, trylast=True)

@@ -7,18 +7,15 @@ from __future__ import annotations
 import os
 import re
 import secrets
-import socket
 import subprocess
 import sys
-import time
-import urllib.error
-import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 import yaml
+from served import free_port, wait_until_ready
 from sqlalchemy import create_engine, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import DBAPIError
@@ -42,14 +39,6 @@ def service(name: str) -> dict[str, Any]:
     compose = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
     spec: dict[str, Any] = compose["services"][name]
     return spec
-
-
-def free_port() -> int:
-    """A TCP port nobody listens on."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 @pytest.fixture
@@ -170,17 +159,9 @@ def test_the_compose_app_starts_as_written_and_is_ready(compose_env: dict[str, s
         stderr=subprocess.STDOUT,
     )
     try:
-        status, body = 0, ""
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and app.poll() is None:
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2) as response:
-                    status, body = response.status, response.read().decode()
-                    break
-            except (urllib.error.URLError, ConnectionError):
-                time.sleep(0.3)
+        body = wait_until_ready(f"http://127.0.0.1:{port}/readyz", app)  # a 200, or it fails
         assert app.poll() is None, app.stdout.read().decode() if app.stdout else "the app exited"
-        assert (status, body) == (200, '{"status":"ok"}')
+        assert body == '{"status":"ok"}'
     finally:
         app.terminate()
         app.wait(timeout=30)

@@ -16,20 +16,13 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from served import free_port, wait_until_ready
 
 BIN = Path(sys.executable).parent
 HEADER_TIMEOUT = 2
 BODY_TIMEOUT = 3
 PUBLIC_LIMIT = 5
 PUBLIC_WINDOW = 3600  # long, and a test never starts near its turn (the_window_holds_still)
-
-
-def free_port() -> int:
-    """A TCP port nobody listens on."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 # `trikecert serve` runs the guarded protocol on the parser uvicorn picks (httptools, installed here);
@@ -72,13 +65,7 @@ def served(request: pytest.FixtureRequest, database_url: str) -> Iterator[int]:
         stderr=subprocess.DEVNULL,
     )
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=2):
-                    break
-            except OSError:
-                time.sleep(0.2)
+        wait_until_ready(f"http://127.0.0.1:{port}/readyz", server)
         yield port
     finally:
         server.terminate()

@@ -5,10 +5,8 @@ TRIKECERT_FORWARDED_ALLOW_IPS; /metrics asks for its bearer token."""
 from __future__ import annotations
 
 import os
-import socket
 import subprocess
 import sys
-import time
 import urllib.error
 import urllib.request
 from collections.abc import Callable, Iterator
@@ -17,19 +15,12 @@ from http.client import HTTPResponse
 from pathlib import Path
 
 import pytest
+from served import free_port, wait_until_ready
 from sqlalchemy import Engine
 
 BIN = Path(sys.executable).parent
 TOKEN = "served-scrape-token-0123456789"
 HTTPS = {"X-Forwarded-Proto": "https"}
-
-
-def free_port() -> int:
-    """A TCP port nobody listens on."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 @contextmanager
@@ -47,15 +38,7 @@ def _serving(database_url: str, **settings: str) -> Iterator[str]:
     )
     base = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                with urllib.request.urlopen(f"{base}/healthz", timeout=2):
-                    break
-            except OSError:
-                assert server.poll() is None, "trikecert serve exited"
-                assert time.monotonic() < deadline, "trikecert serve did not answer"
-                time.sleep(0.2)
+        wait_until_ready(f"{base}/healthz", server)
         yield base
     finally:
         server.terminate()

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import httpx
 import pytest
+from served import free_port, wait_until_ready
 from sqlalchemy import Engine, func, select
 from sqlalchemy.orm import Session
 
@@ -24,15 +25,6 @@ BIN = Path(sys.executable).parent
 EMAIL = "racer@example.org"
 PASSWORD = "a long passphrase for the race"
 GUESSES = 30
-
-
-def _free_port() -> int:
-    import socket
-
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 @pytest.fixture
@@ -47,7 +39,7 @@ def served(engine: Engine, database_url: str, tmp_path: Path) -> Iterator[str]:
         text=True,
         check=True,
     )
-    port = _free_port()
+    port = free_port()
     log = tmp_path / "server.log"
     with log.open("w") as output:
         server = subprocess.Popen(
@@ -58,25 +50,12 @@ def served(engine: Engine, database_url: str, tmp_path: Path) -> Iterator[str]:
         )
     base = f"http://127.0.0.1:{port}"
     try:
-        _wait_until_ready(base, server, log)
+        # Several answers in a row: past the start of both workers, not one that is still starting.
+        wait_until_ready(f"{base}/readyz", server, timeout=120, in_a_row=4, log=log)
         yield base
     finally:
         server.terminate()
         server.wait(timeout=30)
-
-
-def _wait_until_ready(base: str, server: subprocess.Popen[bytes], log: Path) -> None:
-    """Both workers answering, or fail with what the server said."""
-    deadline, ready = time.monotonic() + 120, 0
-    while time.monotonic() < deadline and server.poll() is None:
-        try:
-            ready = ready + 1 if httpx.get(f"{base}/readyz", timeout=5).status_code == 200 else 0
-        except httpx.HTTPError:
-            ready = 0
-        if ready >= 4:  # several answers in a row: past the start, not a worker that is still starting
-            return
-        time.sleep(0.2)
-    pytest.fail(f"the server did not become ready:\n{log.read_text()}")
 
 
 def _login_form(base: str) -> tuple[dict[str, str], str]:

@@ -15,7 +15,6 @@ import os
 import re
 import subprocess
 import sys
-import time
 import uuid
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -23,6 +22,7 @@ from pathlib import Path
 
 import httpx
 import pytest
+from served import free_port, wait_until_ready
 from sqlalchemy import create_engine, text
 from sqlalchemy.engine import make_url
 from study_data import STUDY_READINGS
@@ -90,15 +90,6 @@ class Served:
     log: Path
 
 
-def _free_port() -> int:
-    import socket
-
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
 @pytest.fixture
 def served(database: Database, tmp_path: Path) -> Iterator[Served]:
     """`trikecert demo`, an officer account, then `trikecert serve` with its log kept in a file."""
@@ -114,7 +105,7 @@ def served(database: Database, tmp_path: Path) -> Iterator[Served]:
         text=True,
         check=True,
     )
-    port = _free_port()
+    port = free_port()
     log = tmp_path / "server.log"
     with log.open("wb") as sink:
         server = subprocess.Popen(
@@ -127,15 +118,7 @@ def served(database: Database, tmp_path: Path) -> Iterator[Served]:
     station = httpx.Client(base_url=base, headers={"Authorization": f"Bearer {key}"}, timeout=30)
     officer = httpx.Client(base_url=base, headers=HTML, timeout=30)
     try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                officer.get("/healthz")
-                break
-            except httpx.TransportError:
-                if time.monotonic() > deadline or server.poll() is not None:
-                    raise
-                time.sleep(0.2)
+        wait_until_ready(f"{base}/healthz", server, log=log)
         token = _TOKEN.search(officer.get("/login").text)
         assert token is not None
         signed_in = officer.post(

@@ -6,14 +6,12 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-import socket
 import subprocess
 import sys
-import time
-import urllib.request
 from decimal import Decimal
 from pathlib import Path
 
+from served import free_port, wait_until_ready
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
@@ -22,14 +20,6 @@ from app.stations.service import create_station
 from app.vehicles.service import register_vehicle
 
 STUDY_SEATS = [("driver", "0.9303")] + [("passenger", "1.6303")] * 3
-
-
-def free_port() -> int:
-    """A TCP port nobody listens on."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 class Server:
@@ -57,15 +47,11 @@ class Server:
             stderr=subprocess.DEVNULL,
             start_new_session=True,
         )
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            try:
-                with urllib.request.urlopen(f"{self.url}/readyz", timeout=1):
-                    return
-            except OSError:
-                time.sleep(0.05)
-        self.kill()
-        raise RuntimeError(f"trikecert serve did not become ready on port {self.port}")
+        try:
+            wait_until_ready(f"{self.url}/readyz", self.process, timeout=timeout)
+        except AssertionError:
+            self.kill()
+            raise
 
     def _signal(self, number: int) -> None:
         if self.process is None:

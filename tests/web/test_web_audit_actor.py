@@ -4,16 +4,15 @@ address), what follows by the officer; never the account that started `trikecert
 from __future__ import annotations
 
 import os
-import socket
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
 import pytest
 from fastapi.testclient import TestClient
+from served import free_port, wait_until_ready
 from sqlalchemy import Engine, select
 from sqlalchemy.orm import Session
 
@@ -67,17 +66,10 @@ def test_an_app_started_inside_the_command_line_records_sign_ins_by_nobody_then_
     assert addresses == ["testclient", "testclient"]
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
 @pytest.fixture
 def served(engine: Engine, database_url: str) -> Iterator[str]:
     """`trikecert serve` (one worker, the default) on the test database; yields its base URL."""
-    port = _free_port()
+    port = free_port()
     server = subprocess.Popen(
         [sys.executable, "-m", "app.cli", "serve", "--port", str(port), "--no-migrate"],
         env=dict(os.environ, TRIKECERT_DATABASE_URL=database_url),
@@ -87,16 +79,7 @@ def served(engine: Engine, database_url: str) -> Iterator[str]:
     )
     base = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                if httpx.get(f"{base}/readyz", timeout=1).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            assert server.poll() is None, "trikecert serve stopped"
-            assert time.monotonic() < deadline, "trikecert serve did not start"
-            time.sleep(0.1)
+        wait_until_ready(f"{base}/readyz", server)
         yield base
     finally:
         server.terminate()
