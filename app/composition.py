@@ -17,11 +17,12 @@ from app.audit_log.api import router as audit_api_router
 from app.audit_log.views import router as audit_router
 from app.certificates.api import router as certificates_api_router
 from app.dynamics.api import router as dynamics_api_router
+from app.dynamics.lookups import find_vehicles_with, get_inspections_with
 from app.dynamics.views import router as vehicle_dynamics_router
 from app.inspections.api import router as inspections_api_router
 from app.inspections.api import submission_router
 from app.inspections.home import router as home_router
-from app.inspections.service import count_matches_with
+from app.inspections.service import count_matches_with, get_inspection
 from app.inspections.views import router as inspections_router
 from app.pages.inspection import router as inspection_page_router
 from app.pages.vehicle import router as vehicle_page_router
@@ -32,6 +33,7 @@ from app.statistics.views import router as statistics_router
 from app.type_assessments.api import router as type_assessments_api_router
 from app.type_assessments.views import router as type_assessments_router
 from app.vehicles.api import router as vehicles_api_router
+from app.vehicles.service import display_registration, find_vehicle
 from app.vehicles.views import router as vehicles_router
 from app.web.templating import use_navigation_rule
 
@@ -69,3 +71,7 @@ page_routers: tuple[APIRouter, ...] = (
 use_navigation_rule(offers_navigation)
 # A list of inspections counts the closed days it covers from the statistics' stored counts.
 count_matches_with(count_matching_inspections)
+# The vehicle figures page finds its vehicle, and the dynamics endpoint its inspection, through the
+# packages above app/dynamics/ (which use its figures and estimates).
+find_vehicles_with(find_vehicle, display_registration)
+get_inspections_with(get_inspection)

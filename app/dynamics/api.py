@@ -10,11 +10,11 @@ from app.api.errors import error_responses
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics, lift_inputs
+from app.dynamics.lookups import get_inspection
+from app.dynamics.rounding import case_figures, rounded
 from app.dynamics.schemas import CaseAtSpeedOut, DynamicsInputsOut, DynamicsOut
 from app.errors import InvalidInput
 from app.ids import InspectionId
-from app.inspections.answer import case_figures, rounded
-from app.inspections.service import get_inspection
 from app.stability import StabilityError, case_label
 from app.stability.dynamics import G, at_speed
 from app.stations.deps import SessionDep, StationDep

@@ -11,10 +11,9 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
+from app.dynamics.protocols import EstimatedInspection, WeighedCase, WeighedRecord, Weighing
 from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 from app.errors import InvalidInput
-from app.inspections.models import Inspection
-from app.inspections.record import InspectionRecord, record_of
 from app.stability import Seat, StabilityError
 from app.stability.dynamics import (
     BOUNDS,
@@ -68,7 +67,7 @@ def estimate_inputs(
     }
 
 
-def checked_dynamics(record: InspectionRecord, figures: DynamicsFigures) -> Dynamics:
+def checked_dynamics(record: WeighedRecord, figures: DynamicsFigures) -> Dynamics:
     """A new inspection's estimates, its CG-height weighing checked against the vehicle (422, named)."""
     try:
         return assess_dynamics(record_input(record, figures))
@@ -138,31 +137,39 @@ def _mean(values: Sequence[str]) -> Fraction:
     return sum((Fraction(Decimal(v)) for v in values), Fraction(0)) / len(values)
 
 
-def record_input(record: InspectionRecord, figures: DynamicsFigures) -> DynamicsInput:
+def record_input(record: WeighedRecord, figures: DynamicsFigures) -> DynamicsInput:
     """The core's input for an inspection's stored values and the vehicle's figures it names."""
-    front = record.front_kg
+    return _weighing_input(record, record.cases, figures)
+
+
+def _weighing_input(
+    weighing: Weighing, cases: Sequence[WeighedCase], figures: DynamicsFigures
+) -> DynamicsInput:
+    front = weighing.front_kg
     weighed = (
-        record.overall_kg
-        if record.overall_kg is not None
-        else front + record.left_rear_kg + record.right_rear_kg
+        weighing.overall_kg
+        if weighing.overall_kg is not None
+        else front + weighing.left_rear_kg + weighing.right_rear_kg
     )
     return dynamics_input(
-        wheelbase_m=record.wheelbase_m,
+        wheelbase_m=weighing.wheelbase_m,
         front_kg=front,
         weighed_kg=weighed,
-        cases=[(c.occupants, c.total_kg, c.rear_kg, c.compliant) for c in record.cases],
+        cases=[(c.occupants, c.total_kg, c.rear_kg, c.compliant) for c in cases],
         figures=figures,
-        stored=record.dynamics_input,
-        has_load_items=bool(record.occupant_config.get("load_items")),
+        stored=weighing.dynamics_input,
+        has_load_items=bool(weighing.occupant_config.get("load_items")),
     )
 
 
-def stored_input(inspection: Inspection) -> DynamicsInput:
+def stored_input(inspection: EstimatedInspection) -> DynamicsInput:
     """The core's input for a stored inspection."""
-    return record_input(record_of(inspection), revision_figures(inspection.dynamics_revision))
+    return _weighing_input(
+        inspection, inspection.loading_cases, revision_figures(inspection.dynamics_revision)
+    )
 
 
-def inspection_dynamics(inspection: Inspection) -> tuple[DynamicsInput, Dynamics]:
+def inspection_dynamics(inspection: EstimatedInspection) -> tuple[DynamicsInput, Dynamics]:
     """A stored inspection's estimates (inputs checked when it was stored)."""
     data = stored_input(inspection)
     return data, assess_dynamics(data)

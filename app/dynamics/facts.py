@@ -7,7 +7,7 @@ from typing import Any
 
 from app.config import get_settings
 from app.dynamics.presentation import estimates
-from app.inspections.models import Inspection
+from app.dynamics.protocols import EstimatedInspection
 from app.web.chart import MapPoint, short_label
 
 
@@ -45,7 +45,7 @@ class EstimateFacts:
         ]
 
 
-def estimate_facts(inspection: Inspection) -> EstimateFacts | None:
+def estimate_facts(inspection: EstimatedInspection) -> EstimateFacts | None:
     """The inspection's estimates to freeze, or None when none of them is known."""
     content = estimates(inspection)
     if not content.known:

@@ -10,7 +10,7 @@ from sqlalchemy import JSON, ForeignKey, Integer, Numeric, UniqueConstraint
 from sqlalchemy.orm import Mapped, mapped_column, relationship
 
 from app.db import Base, UTCDateTime, utcnow
-from app.vehicles.models import Vehicle
+from app.dynamics.protocols import FiguredVehicle
 
 # The figures of a revision, in the order the pages and the API show them.
 DYNAMICS_FIELDS = (
@@ -46,4 +46,7 @@ class VehicleDynamicsRevision(Base):
     drag_area_m2: Mapped[Decimal | None] = mapped_column(Numeric(6, 4))
     centre_of_pressure_height_m: Mapped[Decimal | None] = mapped_column(Numeric(6, 4))
 
-    vehicle: Mapped[Vehicle] = relationship(back_populates="dynamics_revisions", lazy="joined")
+    # By name: the vehicle's model is in app/vehicles/, above this package.
+    vehicle: Mapped[FiguredVehicle] = relationship(
+        "Vehicle", back_populates="dynamics_revisions", lazy="joined"
+    )

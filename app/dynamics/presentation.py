@@ -9,6 +9,7 @@ from markupsafe import Markup
 
 from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics
+from app.dynamics.protocols import EstimatedInspection
 from app.dynamics.wording import (
     SECTION_LEAD,
     SECTION_TITLE,
@@ -18,7 +19,6 @@ from app.dynamics.wording import (
     missing_sentence,
     readings_text,
 )
-from app.inspections.models import Inspection
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
 from app.web.formatting import NOT_RECORDED
@@ -56,7 +56,7 @@ class Estimates:
         return any(row.rollover_threshold != UNKNOWN or row.understeer_margin != UNKNOWN for row in self.rows)
 
 
-def estimates(inspection: Inspection) -> Estimates:
+def estimates(inspection: EstimatedInspection) -> Estimates:
     """The estimates of a stored inspection, in words and as map points."""
     data, dynamics = inspection_dynamics(inspection)
     rows, points = [], []
@@ -96,7 +96,9 @@ def estimates(inspection: Inspection) -> Estimates:
     )
 
 
-def inputs_used(inspection: Inspection, data: DynamicsInput, dynamics: Dynamics) -> list[tuple[str, str]]:
+def inputs_used(
+    inspection: EstimatedInspection, data: DynamicsInput, dynamics: Dynamics
+) -> list[tuple[str, str]]:
     """The inputs beside the figures, each labelled with its unit; unknown ones say so."""
     vehicle = data.vehicle
     revision = inspection.dynamics_revision
@@ -140,7 +142,7 @@ def map_svg(content: Estimates, *, chart_id: str = "stability-map") -> Markup | 
     return stability_map(content.points, min_rollover_g=content.min_rollover_g, chart_id=chart_id)
 
 
-def dynamics_context(inspection: Inspection) -> dict[str, object]:
+def dynamics_context(inspection: EstimatedInspection) -> dict[str, object]:
     """The template's `estimates`, `stability_map` and the section's title and lead."""
     content = estimates(inspection)
     return {

@@ -11,10 +11,10 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.protocols import FiguredVehicle
 from app.errors import Conflict, InvalidInput
 from app.stability import StabilityError
 from app.stability.dynamics import VehicleDynamics, check_vehicle
-from app.vehicles.models import Vehicle
 
 # Decimal places each figure is stored to (metres to 0.1 mm, stiffness to 0.1 N/rad).
 PLACES = {
@@ -75,7 +75,9 @@ def check_figures(figures: DynamicsFigures, *, seat_count: int) -> None:
             )
 
 
-def new_revision(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -> VehicleDynamicsRevision:
+def new_revision(
+    session: Session, vehicle: FiguredVehicle, figures: DynamicsFigures
+) -> VehicleDynamicsRevision:
     """Add the next revision of the vehicle's figures to the session (the caller commits)."""
     check_figures(figures, seat_count=len(vehicle.seats))
     latest = 0
@@ -98,7 +100,9 @@ def new_revision(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -
     return revision
 
 
-def record_figures(session: Session, vehicle: Vehicle, figures: DynamicsFigures) -> VehicleDynamicsRevision:
+def record_figures(
+    session: Session, vehicle: FiguredVehicle, figures: DynamicsFigures
+) -> VehicleDynamicsRevision:
     """Store a new revision of the vehicle's figures and commit; the older ones stay as they were."""
     revision = new_revision(session, vehicle, figures)
     try:

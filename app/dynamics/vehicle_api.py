@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from app.dynamics.models import DYNAMICS_FIELDS, VehicleDynamicsRevision
+from app.dynamics.protocols import FiguredVehicle
 from app.dynamics.schemas import VehicleDynamicsIn, VehicleDynamicsOut
 from app.dynamics.service import DynamicsFigures, seat_heights
-from app.vehicles.models import Vehicle
 
 
 def dynamics_figures(body: VehicleDynamicsIn) -> DynamicsFigures:
@@ -27,7 +27,7 @@ def revision_out(revision: VehicleDynamicsRevision) -> VehicleDynamicsOut:
     )
 
 
-def dynamics_out(vehicle: Vehicle) -> VehicleDynamicsOut | None:
+def dynamics_out(vehicle: FiguredVehicle) -> VehicleDynamicsOut | None:
     """The vehicle's figures in force, or None for a vehicle registered before they were kept."""
     revisions = vehicle.dynamics_revisions
     return revision_out(revisions[-1]) if revisions else None

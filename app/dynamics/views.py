@@ -12,11 +12,11 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
+from app.dynamics.lookups import display_registration, find_vehicle
 from app.dynamics.models import DYNAMICS_FIELDS
+from app.dynamics.protocols import FiguredVehicle
 from app.dynamics.service import DynamicsFigures, record_figures, revision_figures, seat_heights
 from app.errors import NotFound, ServiceError
-from app.vehicles.models import Vehicle
-from app.vehicles.service import display_registration, find_vehicle
 from app.web.deps import FormDep, SessionDep
 from app.web.formatting import NOT_RECORDED, or_not_recorded
 from app.web.forms import FormErrors, parse_decimal, text
@@ -79,14 +79,14 @@ def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
     return result
 
 
-def _vehicle(session: SessionDep, registration_key: str) -> Vehicle:
+def _vehicle(session: SessionDep, registration_key: str) -> FiguredVehicle:
     vehicle = find_vehicle(session, registration_key)
     if vehicle is None:
         raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
     return vehicle
 
 
-def current_values(vehicle: Vehicle) -> dict[str, str]:
+def current_values(vehicle: FiguredVehicle) -> dict[str, str]:
     """The form pre-filled with the figures in force."""
     revisions = vehicle.dynamics_revisions
     figures = revision_figures(revisions[-1] if revisions else None)
@@ -102,7 +102,7 @@ def _shown(value: Decimal | None) -> str:
 
 
 def _page(
-    request: Request, vehicle: Vehicle, values: dict[str, str], errors: FormErrors, status: int
+    request: Request, vehicle: FiguredVehicle, values: dict[str, str], errors: FormErrors, status: int
 ) -> Response:
     return render(
         request,
@@ -151,7 +151,7 @@ def change_figures(
     return _page(request, vehicle, parsed.values, parsed.errors, 422)
 
 
-def figures_rows(vehicle: Vehicle) -> dict[str, object]:
+def figures_rows(vehicle: FiguredVehicle) -> dict[str, object]:
     """The vehicle page's summary of the figures in force: (label, value) rows and the revision."""
     revisions = vehicle.dynamics_revisions
     values = current_values(vehicle)

@@ -5,7 +5,6 @@ the app. Every import counts: inside functions and under TYPE_CHECKING too."""
 
 from __future__ import annotations
 
-import tomllib
 from collections import defaultdict
 from collections.abc import Iterable
 from pathlib import Path
@@ -33,16 +32,6 @@ KERNEL = {
     "app.wording",
 }
 KITS = {"app.web": KERNEL | {"app.api"}, "app.api": KERNEL}
-
-
-def _exempted() -> set[tuple[str, str]]:
-    """The imports the layers contract still lets cross upwards (issue 26), as (importer, imported)."""
-    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
-    layers = next(c for c in config["tool"]["importlinter"]["contracts"] if c["type"] == "layers")
-    return {tuple(line.split(" -> ")) for line in layers.get("ignore_imports", [])}
-
-
-EXEMPTED = _exempted()
 
 
 @pytest.fixture(scope="module")
@@ -78,8 +67,6 @@ def test_no_two_packages_of_app_import_each_other(graph: grimp.ImportGraph) -> N
     needs: dict[str, set[str]] = defaultdict(set)
     for package in sorted({top_package(module) for module in graph.modules}):
         for importer, imported, line in imports_out_of(graph, package):
-            if (importer, imported) in EXEMPTED:
-                continue
             edge = (package, top_package(imported))
             if edge[1] != "app":  # the root's __init__: the version, importing nothing
                 needs[package].add(edge[1])
