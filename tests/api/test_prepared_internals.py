@@ -30,6 +30,8 @@ from app.idempotency import service as idempotency
 from app.inspections import lookup, store
 from app.prepared import Prepared, PreparedCache
 from app.stations.models import Station
+from app.stations.service import hash_key
+from app.vehicles.service import lookup_key
 
 INSPECTIONS = "/api/v1/inspections"
 VEHICLE = {
@@ -114,7 +116,7 @@ def exact(value: Any) -> Any:
 
 
 @pytest.fixture
-def ran(api: TestClient, engine: Engine) -> list[tuple[str, Prepared, Any, bool]]:
+def ran(api: TestClient, engine: Engine, station_key: str) -> list[tuple[str, Prepared, Any, bool]]:
     """Each prepared statement run while submissions and keyed registrations go through the API:
     its name, its Prepared, its values and whether it was an executemany."""
     names = {}
@@ -145,6 +147,16 @@ def ran(api: TestClient, engine: Engine) -> list[tuple[str, Prepared, Any, bool]
         for _twice in range(2):
             answered = api.post("/api/v1/vehicles", json=registration, headers={"Idempotency-Key": "guard-2"})
             assert answered.status_code == 201, answered.text
+        with engine.connect() as connection:  # the look-up with the rate limit off (PostgreSQL too)
+            registration_key = lookup_key(SUBMISSION["registration_number"])
+            found = lookup.look_up(
+                connection,
+                key_hash=hash_key(station_key),
+                registration_key=registration_key,
+                window_start=None,
+                idempotency_key=None,
+            )
+            assert found.vehicle is not None
     finally:
         Prepared.execute, Prepared.execute_many = execute, execute_many  # type: ignore[method-assign]
     return seen
