@@ -8,6 +8,10 @@ It runs on the driver connection of a SQLAlchemy connection, in its transaction:
 transactions and the SQLite writer's turn stay SQLAlchemy's, and a driver error is raised as
 SQLAlchemy raises it (a lost database is still recognised as an outage). Its statements do not pass
 through SQLAlchemy's cursor events.
+
+It leans on SQLAlchemy internals (the compiler's positiontup, bind_names and binds, the types'
+processors): tests/api/test_prepared_internals.py fails, naming the version and the internal, when
+an upgrade changes what they give.
 """
 
 from __future__ import annotations
