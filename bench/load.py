@@ -2,6 +2,7 @@
 
 Run by hand (needs Debian's wrk and a local PostgreSQL):  .venv/bin/python bench/load.py
 Options: --backends sqlite,postgresql --workers 2 --duration 10 --connections 32 --rounds 2
+         --label NAME --also NAME=CHECKOUT (repeatable)
 
 Per backend, three servers run at once with the same worker count on one fresh database:
 trikecert (`trikecert serve`), the naive peer and the bare Starlette route (bench/peer.py). Each
@@ -9,6 +10,11 @@ round loads, one after the other: the bare route and trikecert's /healthz; the p
 trikecert's POST /api/v1/inspections, without and with an Idempotency-Key. Rounds repeat the
 sequence, so a change in the machine's load falls on every target alike. Each row gives the
 server's CPU (and PostgreSQL's) per answered request and the machine's load average.
+
+Two versions of trikecert in one run: `--also NAME=CHECKOUT` serves another checkout too (its own
+`CHECKOUT/.venv`, same workers, same database, migrated and seeded by this one, so both must be at
+the same migration), and loads its POSTs, without and with a key, right after this checkout's in
+every round; `--label NAME` names this checkout's rows (default: trikecert).
 """
 
 from __future__ import annotations
@@ -157,9 +163,18 @@ def measured(
     return result, app_ms, db_ms
 
 
-def start(command: list[str], env: dict[str, str]) -> subprocess.Popen[bytes]:
+def start(command: list[str], env: dict[str, str], cwd: Path | None = None) -> subprocess.Popen[bytes]:
     """A server process, its output discarded."""
-    return subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return subprocess.Popen(command, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def also_served(option: str) -> tuple[str, Path]:
+    """--also NAME=CHECKOUT: the name of another checkout's rows and its `trikecert` command."""
+    name, equals, checkout = option.partition("=")
+    command = Path(checkout).resolve() / ".venv/bin/trikecert"
+    if not (name and equals and command.is_file()):
+        raise SystemExit(f"--also {option}: expected NAME=CHECKOUT, with CHECKOUT/.venv/bin/trikecert")
+    return name, command
 
 
 def wait_answering(port: int, path: str) -> None:
@@ -192,44 +207,40 @@ def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
 
     create_table(env["TRIKECERT_DATABASE_URL"])
     bin_dir = Path(sys.executable).parent
-    ports = {name: free_port() for name in ("trikecert", "peer", "bare")}
+    also = dict(also_served(option) for option in args.also)
+    ports = {name: free_port() for name in ("trikecert", "peer", "bare", *also)}
     workers = ["--workers", str(args.workers)]
+
+    def serve(command: Path, port: int, cwd: Path) -> subprocess.Popen[bytes]:
+        return start([str(command), "serve", "--port", str(port), *workers, "--no-migrate"], env, cwd)
+
     uvicorn = [str(bin_dir / "uvicorn"), "--app-dir", str(ROOT / "bench"), "--no-access-log", *workers]
     peer_env = dict(env, PEER_DATABASE_URL=env["TRIKECERT_DATABASE_URL"])
     servers = {
-        "trikecert": start(
-            [
-                str(bin_dir / "trikecert"),
-                "serve",
-                "--port",
-                str(ports["trikecert"]),
-                *workers,
-                "--no-migrate",
-            ],
-            env,
-        ),
+        "trikecert": serve(bin_dir / "trikecert", ports["trikecert"], ROOT),
         "peer": start([*uvicorn, "--port", str(ports["peer"]), "peer:peer_app"], peer_env),
         "bare": start([*uvicorn, "--port", str(ports["bare"]), "peer:bare_app"], env),
+        **{name: serve(command, ports[name], command.parents[2]) for name, command in also.items()},
     }
     rows = []
     try:
-        wait_ready(ports["trikecert"])
+        for name in ("trikecert", *also):
+            wait_ready(ports[name])
         wait_answering(ports["bare"], "/healthz")
         wrk_env = dict(env, TRIKECERT_BENCH_KEY=key, TRIKECERT_BENCH_VEHICLES=str(VEHICLES))
         script = str(ROOT / "bench/post_inspection.lua")
         url = {name: f"http://127.0.0.1:{port}" for name, port in ports.items()}
+        keyed_env = dict(wrk_env, TRIKECERT_BENCH_IDEMPOTENCY="1")
+        label = {"trikecert": args.label, **{name: name for name in also}}
         targets = [
             ("bare Starlette GET /healthz", "bare", f"{url['bare']}/healthz", None, wrk_env),
-            ("trikecert GET /healthz", "trikecert", f"{url['trikecert']}/healthz", None, wrk_env),
+            (f"{args.label} GET /healthz", "trikecert", f"{url['trikecert']}/healthz", None, wrk_env),
             ("peer POST (one row)", "peer", url["peer"], script, wrk_env),
-            ("trikecert POST", "trikecert", url["trikecert"], script, wrk_env),
-            (
-                "trikecert POST + Idempotency-Key",
-                "trikecert",
-                url["trikecert"],
-                script,
-                dict(wrk_env, TRIKECERT_BENCH_IDEMPOTENCY="1"),
-            ),
+            *[(f"{label[name]} POST", name, url[name], script, wrk_env) for name in ("trikecert", *also)],
+            *[
+                (f"{label[name]} POST + Idempotency-Key", name, url[name], script, keyed_env)
+                for name in ("trikecert", *also)
+            ],
         ]
         for connections in args.connections:
             for round_number in range(1, args.rounds + 1):
@@ -263,6 +274,14 @@ def main() -> None:
     parser.add_argument("--duration", type=int, default=10)
     parser.add_argument("--connections", default="32")
     parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--label", default="trikecert", help="the name of this checkout's rows")
+    parser.add_argument(
+        "--also",
+        action="append",
+        default=[],
+        metavar="NAME=CHECKOUT",
+        help="serve another trikecert checkout (its own .venv) too, on the same database, and load its POSTs",
+    )
     args = parser.parse_args()
     args.connections = [int(c) for c in args.connections.split(",")]
     print(
