@@ -172,8 +172,11 @@ def also_served(option: str) -> tuple[str, Path]:
     """--also NAME=CHECKOUT: the name of another checkout's rows and its `trikecert` command."""
     name, equals, checkout = option.partition("=")
     command = Path(checkout).resolve() / ".venv/bin/trikecert"
-    if not (name and equals and command.is_file()):
-        raise SystemExit(f"--also {option}: expected NAME=CHECKOUT, with CHECKOUT/.venv/bin/trikecert")
+    if not (name and equals and command.is_file()) or name in ("trikecert", "peer", "bare"):
+        raise SystemExit(
+            f"--also {option}: expected NAME=CHECKOUT, NAME not trikecert, peer or bare, "
+            "with CHECKOUT/.venv/bin/trikecert"
+        )
     return name, command
 
 
