@@ -252,7 +252,7 @@ def backdate(owner_engine: Engine) -> Callable[..., None]:
     """
 
     def rewrite(inspection_id: int, at: datetime, **columns: object) -> None:
-        with owner_engine.begin() as connection, immutability_lifted(connection):
+        with owner_engine.begin() as connection, immutability_lifted(connection, {Inspection.__tablename__}):
             connection.execute(
                 update(Inspection).where(Inspection.id == inspection_id).values(created_at=at, **columns)
             )

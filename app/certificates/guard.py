@@ -11,7 +11,7 @@ PostgreSQL the app's role has no UPDATE or DELETE on those tables at all (app/gr
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from typing import Any
 
@@ -100,9 +100,9 @@ def _refuse_bulk(state: ORMExecuteState) -> None:
 
 
 @contextmanager
-def immutability_lifted(connection: Connection) -> Iterator[None]:
+def immutability_lifted(connection: Connection, tables: Collection[str] | None = None) -> Iterator[None]:
     """Let this transaction change or delete frozen rows (test fixtures only; on PostgreSQL the
-    connection must be a superuser's: the app's role cannot)."""
+    connection must be a superuser's: the app's role cannot); on SQLite only `tables`' when given."""
     dialect = connection.dialect.name
     if dialect == "postgresql":
         connection.execute(text("SET LOCAL session_replication_role = replica"))
@@ -111,10 +111,16 @@ def immutability_lifted(connection: Connection) -> Iterator[None]:
     if dialect != "sqlite":
         yield
         return
-    triggers = connection.execute(
-        text("SELECT name, sql FROM sqlite_master WHERE type = 'trigger' AND name LIKE :prefix"),
-        {"prefix": f"{TRIGGER_PREFIX}%"},
-    ).all()
+    # Each trigger dropped and made again changes SQLite's schema, which every other connection
+    # then reads again: a fixture that rewrites one table lifts only that table's triggers.
+    triggers = [
+        (name, sql)
+        for name, table, sql in connection.execute(
+            text("SELECT name, tbl_name, sql FROM sqlite_master WHERE type = 'trigger' AND name LIKE :p"),
+            {"p": f"{TRIGGER_PREFIX}%"},
+        )
+        if tables is None or table in tables
+    ]
     for name, _sql in triggers:
         connection.execute(text(f'DROP TRIGGER "{name}"'))
     try:
