@@ -110,17 +110,25 @@ def code_at(secret: str, steps_from_now: int = 0) -> str:
 
 def enrol(client: TestClient) -> tuple[str, list[str]]:
     """Sign-in's first step done: open the enrolment page, confirm a code; the secret and recovery codes."""
+    secret, codes, _used = enrol_with_code(client)
+    return secret, codes
+
+
+def enrol_with_code(client: TestClient) -> tuple[str, list[str], str]:
+    """As enrol, and the code it confirmed with (used up: a replay of it must be refused, whichever
+    30-second step the test has reached since)."""
     page = client.get("/account/two-factor")
     assert page.status_code == 200
     secret = re.search(r'<code id="secret" class="secret">([A-Z2-7]+)</code>', page.text)
     assert secret, page.text
     assert "<svg" in page.text  # the QR code, drawn on the page itself
-    form = {"csrf_token": hidden(page.text), "next": "/", "code": code_at(secret[1], -1)}
+    used = code_at(secret[1], -1)
+    form = {"csrf_token": hidden(page.text), "next": "/", "code": used}
     shown = client.post("/account/two-factor", data=form)
     assert shown.status_code == 200, shown.text
     codes = re.findall(r"<li><code>([A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4}-[A-Z2-9]{4})</code></li>", shown.text)
     assert "They are shown only now" in shown.text
-    return secret[1], codes
+    return secret[1], codes, used
 
 
 def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
