@@ -226,8 +226,11 @@ def served_bundle(session: Session, settings: Settings) -> Built:
             held = replace(held, marker=marker)
             _cache[settings.database_url] = held
             return held
-    with _lock:
-        built = replace(build_bundle(session, settings, now), marker=_marker(session))
+    with _lock:  # one build at a time; those who waited take the bundle it made
+        held = _cache.get(settings.database_url)
+        if held is not None and held.made_at == _hour(now) and held.marker == marker:
+            return held
+        built = replace(build_bundle(session, settings, now), marker=marker)
         _cache[settings.database_url] = built
         return built
 
