@@ -101,3 +101,18 @@ def status_meaning(status: PublicStatus) -> str:
         "superseded": "SUPERSEDED: only the newer document counts",
         "expired": "EXPIRED: the vehicle must be weighed again",
     }[status]
+
+
+def until_sentence(kind: str, until: str) -> str:
+    """How long a standing document counts: 'Valid until 1 December 2027.' (a refusal: 'stands until')."""
+    return f"{'Valid' if kind == 'compliant' else 'This refusal stands'} until {until}."
+
+
+def lapsed_sentence(kind: str, status: str) -> str:
+    """What a revoked, expired or replaced document still means: 'This certificate was withdrawn: ...'."""
+    word = document_kind(kind)
+    if status == "revoked":
+        return f"This {word} was withdrawn: it certifies nothing."
+    if status == "expired":
+        return f"This {word} no longer counts: the vehicle must be weighed again."
+    return f"This {word} was replaced and no longer counts."
