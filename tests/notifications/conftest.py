@@ -8,13 +8,13 @@ from datetime import timedelta
 
 import pytest
 from fastapi.testclient import TestClient
-from phone_helpers import TOKEN, State, certify, trike, weigh
 from sqlalchemy.orm import Session
 
 from app import config
 from app.certificates.actors import Actor
 from app.certificates.service import issue_certificate, revoke_certificate
 from app.db import utcnow
+from notifications.phone_helpers import TOKEN, State, certify, trike, weigh
 
 
 @pytest.fixture

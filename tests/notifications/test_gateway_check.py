@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import pytest
 from fastapi.testclient import TestClient
-from phone_helpers import PHONE, SMS, TOKEN, USSD, State
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from app.notifications.models import OutboxMessage
 from app.notifications.sms_text import USSD_SCREEN, fits_sms, sms_units
+from notifications.phone_helpers import PHONE, SMS, TOKEN, USSD, State
 
 pytestmark = pytest.mark.usefixtures("gateway_on")
 
