@@ -64,6 +64,7 @@ class Gateway:
     received: list[dict[str, Any]] = field(default_factory=list)
     modes: list[str] = field(default_factory=list)
     slow: float = 5.0
+    delay: float = 0.0  # before every answer: two workers' sends overlap
     lock: threading.Lock = field(default_factory=threading.Lock)
     arrived: threading.Event = field(default_factory=threading.Event)
 
@@ -106,6 +107,7 @@ def _handler(gateway: Gateway) -> type[BaseHTTPRequestHandler]:
                 with gateway.lock:
                     gateway.received.append({**fields, "apiKey": self.headers.get("apiKey"), "mode": mode})
                 gateway.arrived.set()
+                time.sleep(gateway.delay)
             status = (403, "InvalidPhoneNumber") if mode == "refused" else (101, "Success")
             body = json.dumps(
                 {
