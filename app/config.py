@@ -133,6 +133,14 @@ class Settings(BaseSettings):
     # Sent and failed messages (their text; the recipient is erased at once) are deleted after this.
     notify_keep_days: int = Field(default=30, ge=1, le=3650)
 
+    @field_validator(
+        "gateway_callback_token", "africastalking_api_key", "africastalking_sender", "smtp_url", mode="before"
+    )
+    @classmethod
+    def blank_is_unset(cls, value: object) -> object:
+        """An empty variable (as docker-compose passes an unset one) means unset."""
+        return None if value == "" else value
+
     @field_validator("gateway_allowed_ips")
     @classmethod
     def check_gateway_allowed_ips(cls, value: str) -> str:

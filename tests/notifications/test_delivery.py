@@ -94,13 +94,15 @@ def test_500_timeout_and_a_dropped_connection_are_tried_again_with_backoff(
                 get_sessionmaker(),
                 senders(),
                 config.get_settings(),
-                now=lambda w=wait: start + timedelta(seconds=w),
+                now=lambda w=wait: start + timedelta(seconds=w),  # type: ignore[misc]
             )
         )
     assert [r.retried for r in results] == [1, 1, 1, 0]
     assert results[-1].sent == 1
     sent = row(session, message_id)
-    assert sent.sent_at is not None and sent.attempts == 4 and sent.recipient is None
+    assert sent.sent_at is not None
+    assert sent.attempts == 4
+    assert sent.recipient is None
     assert sent.recipient_masked == "+234 80• ••• ••00"
     assert "Traceback" not in caplog.text
     # Not before its backoff: a pass 10 seconds after a failure leaves it waiting.
@@ -128,7 +130,9 @@ def test_a_permanent_refusal_and_too_many_failures_are_recorded_as_failed(
     assert done.failed == 2
     for message_id in (sms_id, email_id):
         failed = row(session, message_id)
-        assert failed.failed_at is not None and failed.recipient is None and failed.last_error
+        assert failed.failed_at is not None
+        assert failed.recipient is None
+        assert failed.last_error
     monkeypatch.setenv("TRIKECERT_NOTIFY_MAX_ATTEMPTS", "2")
     config.get_settings.cache_clear()
     gateway.modes = ["500", "500"]
@@ -163,7 +167,8 @@ def test_a_mail_server_that_refuses_for_now_or_is_down_is_tried_again(
     config.get_settings.cache_clear()
     [down] = queue(session, 1, channel="email")
     assert run_once(get_sessionmaker(), senders(), config.get_settings()).retried == 1
-    assert row(session, down).sent_at is None and row(session, down).recipient is not None
+    assert row(session, down).sent_at is None
+    assert row(session, down).recipient is not None
     assert "Traceback" not in caplog.text
     del message_id
 
@@ -202,7 +207,8 @@ def test_a_worker_killed_mid_send_and_restarted_loses_nothing_and_sends_at_most_
     assert b"Traceback" not in output
     bodies = Counter(gateway.bodies())
     assert bodies["message number 0"] == 2  # the one duplicate the docs bound: the message in flight
-    assert bodies["message number 1"] == 1 and bodies["message number 2"] == 1
+    assert bodies["message number 1"] == 1
+    assert bodies["message number 2"] == 1
     assert all(row(session, message_id).sent_at is not None for message_id in made)
 
 
@@ -216,7 +222,8 @@ def test_two_workers_at_once_never_send_one_message_twice(
     outputs = [worker.communicate(timeout=120)[0] for worker in workers]
     assert [worker.returncode for worker in workers] == [0, 0], outputs
     bodies = Counter(gateway.bodies())
-    assert len(bodies) == 40 and set(bodies.values()) == {1}
+    assert len(bodies) == 40
+    assert set(bodies.values()) == {1}
     assert all(row(session, message_id).sent_at is not None for message_id in made)
     both = [output.count(b" sent to ") for output in outputs]
     assert sum(both) == 40
