@@ -17,6 +17,7 @@ from urllib.parse import urlencode
 
 from fastapi import APIRouter, Depends, Form
 from fastapi.responses import PlainTextResponse, Response
+from sqlalchemy.exc import IntegrityError
 
 from app.config import Settings, get_settings
 from app.db import utcnow
@@ -31,36 +32,46 @@ router = APIRouter(
 )
 
 FIELD = 100  # the longest id, code or number a callback's field may hold
+PRINTABLE = r"^[^\x00-\x1f\x7f]*$"  # an id, code or number: no control character (PostgreSQL takes no NUL)
 TEXT = 20_000  # a USSD or SMS text beyond this is refused (422); below it, answered
 
 
 @router.post("/ussd")
 def ussd_callback(
     session: SessionDep,
-    session_id: Annotated[str, Form(alias="sessionId", max_length=FIELD)],
-    service_code: Annotated[str, Form(alias="serviceCode", max_length=FIELD)],
-    phone_number: Annotated[str, Form(alias="phoneNumber", max_length=FIELD)],
+    session_id: Annotated[str, Form(alias="sessionId", max_length=FIELD, pattern=PRINTABLE)],
+    service_code: Annotated[str, Form(alias="serviceCode", max_length=FIELD, pattern=PRINTABLE)],
+    phone_number: Annotated[str, Form(alias="phoneNumber", max_length=FIELD, pattern=PRINTABLE)],
     text: Annotated[str, Form(max_length=TEXT)] = "",
 ) -> Response:
     """One step of a USSD session: the next screen, 'CON ...' or 'END ...'."""
     del session_id, service_code  # the whole path so far comes in `text`: no session is kept
-    screen = conversation.ussd(session, phone_number, text, get_settings(), utcnow())
+    try:
+        screen = conversation.ussd(session, phone_number, text, get_settings(), utcnow())
+    except IntegrityError:  # the same request twice at once: the other one did it
+        session.rollback()
+        screen = conversation.Screen(
+            "This was asked twice at once: dial again to see where it stands.", more=False
+        )
     return PlainTextResponse(screen.wire())
 
 
 @router.post("/sms")
 def sms_callback(
     session: SessionDep,
-    sender: Annotated[str, Form(alias="from", max_length=FIELD)],
-    to: Annotated[str, Form(max_length=FIELD)],
+    sender: Annotated[str, Form(alias="from", max_length=FIELD, pattern=PRINTABLE)],
+    to: Annotated[str, Form(max_length=FIELD, pattern=PRINTABLE)],
     text: Annotated[str, Form(max_length=TEXT)],
-    message_id: Annotated[str, Form(alias="id", min_length=1, max_length=FIELD)],
-    date: Annotated[str, Form(max_length=FIELD)] = "",
-    link_id: Annotated[str, Form(alias="linkId", max_length=FIELD)] = "",
+    message_id: Annotated[str, Form(alias="id", min_length=1, max_length=FIELD, pattern=PRINTABLE)],
+    date: Annotated[str, Form(max_length=FIELD, pattern=PRINTABLE)] = "",
+    link_id: Annotated[str, Form(alias="linkId", max_length=FIELD, pattern=PRINTABLE)] = "",
 ) -> Response:
     """An incoming SMS: its reply goes into the outbox (the worker sends it); the gateway gets 200."""
     del to, date, link_id
-    conversation.sms(session, sender, text, message_id, get_settings(), utcnow())
+    try:
+        conversation.sms(session, sender, text, message_id, get_settings(), utcnow())
+    except IntegrityError:  # the same message posted twice at once: the other one answers it
+        session.rollback()
     return PlainTextResponse("OK")
 
 

@@ -167,6 +167,14 @@ def test_ten_thousand_characters_and_missing_fields_are_4xx_or_answered(
     assert client.post(USSD, data={"sessionId": "s"}).status_code == 422
     assert client.post(SMS, data={"from": PHONE, "text": "CHECK X"}).status_code == 422  # no id
     assert client.post(SMS, data={}).status_code == 422
+    nul_id = {"from": PHONE, "to": "1", "text": "CHECK KTU417XA", "id": "ATXid\x00"}
+    assert client.post(SMS, data=nul_id).status_code == 422  # PostgreSQL could not even store it
+    assert (
+        client.post(
+            USSD, data={"sessionId": "s", "serviceCode": "*1#", "phoneNumber": "+234\x00", "text": "1*X"}
+        ).status_code
+        == 422
+    )
     assert client.post(
         USSD, content=b"\xff\xfe garbage", headers={"content-type": "application/x-www-form-urlencoded"}
     ).status_code in (200, 400, 422)
