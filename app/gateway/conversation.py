@@ -120,7 +120,7 @@ def sms(
     does nothing); the reply's words, or None when nothing is sent."""
     phone = _phone(sender, settings)
     key = f"sms-in:{message_id[:100]}"
-    if phone is None or service.reply_taken(session, key):
+    if phone is None or service.key_taken(session, key):
         return None
     words = " ".join(text[: QUERY_LENGTH * 4].split())
     keyword, _, rest = words.partition(" ")

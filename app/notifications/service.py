@@ -282,8 +282,8 @@ def check_allowed(session: Session, phone: str, settings: Settings, now: datetim
     return True
 
 
-def reply_taken(session: Session, dedupe_key: str) -> bool:
-    """True when an incoming message with this key was answered already (a replayed callback)."""
+def key_taken(session: Session, dedupe_key: str) -> bool:
+    """True when the outbox holds this key: a reminder already decided, or a callback already answered."""
     return session.scalar(select(OutboxMessage.id).where(OutboxMessage.dedupe_key == dedupe_key)) is not None
 
 
@@ -315,7 +315,7 @@ def plan_reminders(session: Session, settings: Settings, now: datetime | None = 
         if stage is None:
             continue
         key = f"{stage}:{subscription.id}:{certificate.id}"
-        if reply_taken(session, key):
+        if key_taken(session, key):
             continue
         unsubscribe_url = link(settings, "unsubscribe", subscription.token)
         if subscription.channel == "sms":
