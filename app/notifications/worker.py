@@ -88,17 +88,22 @@ def claim(session: Session, channels: set[str], settings: Settings, now: datetim
         .order_by(OutboxMessage.id)
         .limit(1)
     )
+    lapsed = or_(OutboxMessage.claimed_until.is_(None), OutboxMessage.claimed_until < now)
     if session.get_bind().dialect.name == "postgresql":
-        due = due.with_for_update(skip_locked=True)
-    # On SQLite the one statement is atomic (a write locks the file): the same conditions again in
-    # the outer WHERE, so a row claimed meanwhile is not claimed twice.
+        # Lock the row first, then claim it by id: inside `UPDATE ... WHERE id IN (SELECT ... SKIP
+        # LOCKED)` the subquery may run again for each row and claim several at once.
+        found = session.scalar(due.with_for_update(skip_locked=True))
+        if found is None:
+            session.commit()
+            return None
+        target = OutboxMessage.id == found
+    else:
+        # On SQLite the one statement is atomic (a write locks the file); its conditions are checked
+        # again in the outer WHERE, so a row claimed meanwhile is not claimed twice.
+        target = OutboxMessage.id == due.scalar_subquery()
     claimed = session.execute(
         update(OutboxMessage)
-        .where(
-            OutboxMessage.id.in_(due.scalar_subquery()),
-            or_(OutboxMessage.claimed_until.is_(None), OutboxMessage.claimed_until < now),
-            OutboxMessage.sent_at.is_(None),
-        )
+        .where(target, lapsed, OutboxMessage.sent_at.is_(None))
         .values(claim=token, claimed_until=now + lease(settings))
         .execution_options(synchronize_session=False)
     )

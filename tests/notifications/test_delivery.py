@@ -25,7 +25,7 @@ from app.gateway.africastalking import AfricasTalkingSender
 from app.notifications.messages import Text
 from app.notifications.models import NotificationDay, OutboxMessage
 from app.notifications.service import enqueue
-from app.notifications.worker import Pass, Sender, SmtpSender, run_once
+from app.notifications.worker import Pass, Sender, SmtpSender, claim, run_once
 from notifications.servers import Gateway, Mailbox, send_api, smtp_server
 
 REPO = Path(__file__).resolve().parents[2]
@@ -228,3 +228,18 @@ def test_two_workers_at_once_never_send_one_message_twice(
     both = [output.count(b" sent to ") for output in outputs]
     assert sum(both) == 40
     print(f"the two workers sent {both}")
+
+
+def test_a_claim_takes_exactly_one_message(session: Session, outside: tuple[Mailbox, Gateway]) -> None:
+    """On PostgreSQL an `UPDATE ... WHERE id IN (SELECT ... SKIP LOCKED LIMIT 1)` claimed every row."""
+    made = queue(session, 3)
+    settings = config.get_settings()
+    with get_sessionmaker()() as worker:
+        first = claim(worker, {"sms"}, settings, utcnow())
+        second = claim(worker, {"sms"}, settings, utcnow())
+        assert first is not None
+        assert second is not None
+        assert (first.id, second.id) == (made[0], made[1])
+    claimed = [row(session, message_id).claim for message_id in made]
+    assert claimed[0] != claimed[1]
+    assert claimed[2] is None
