@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import getpass
+import logging
 import os
 import sys
 import tempfile
@@ -330,10 +331,43 @@ def build_parser() -> argparse.ArgumentParser:
     )
     audit.set_defaults(handler=cmd_audit_verify)
 
+    notify = commands.add_parser(
+        "notify", help="send the reminders and replies in the outbox (SMS gateway, SMTP); runs until stopped"
+    )
+    notify.add_argument("--once", action="store_true", help="one pass, then exit")
+    notify.set_defaults(handler=cmd_notify)
+
     demo = commands.add_parser("demo", help="load the study's vehicle and its inspection")
     demo.set_defaults(handler=cmd_demo)
     add_certificate_commands(commands)
     return parser
+
+
+def cmd_notify(args: argparse.Namespace) -> int:
+    """Plan the reminders due and send the outbox: email over SMTP when TRIKECERT_SMTP_URL is set, SMS
+    through Africa's Talking when TRIKECERT_AFRICASTALKING_API_KEY is (a channel without one waits)."""
+    from app.gateway.africastalking import AfricasTalkingSender
+    from app.notifications.worker import Sender, SmtpSender, run
+
+    logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    settings = get_settings()
+    senders: dict[str, Sender] = {}
+    if settings.smtp_url is not None:
+        senders["email"] = SmtpSender(
+            settings.smtp_url.get_secret_value(), settings.mail_from, settings.notify_timeout_seconds
+        )
+    if settings.africastalking_api_key is not None:
+        senders["sms"] = AfricasTalkingSender(settings)
+    if not senders:
+        print(
+            "trikecert notify: neither TRIKECERT_SMTP_URL nor TRIKECERT_AFRICASTALKING_API_KEY is set",
+            file=sys.stderr,
+        )
+    try:
+        run(get_sessionmaker(), senders, settings, once=args.once)
+    except KeyboardInterrupt:
+        return 0
+    return 0
 
 
 def cmd_audit_verify(_args: argparse.Namespace) -> int:

@@ -19,11 +19,13 @@ from app.certificates.api import router as certificates_api_router
 from app.dynamics.api import router as dynamics_api_router
 from app.dynamics.lookups import find_vehicles_with, get_inspections_with
 from app.dynamics.views import router as vehicle_dynamics_router
+from app.gateway.africastalking import router as africastalking_router
 from app.inspections.api import router as inspections_api_router
 from app.inspections.api import submission_router
 from app.inspections.home import router as home_router
 from app.inspections.service import count_matches_with, get_inspection
 from app.inspections.views import router as inspections_router
+from app.notifications.views import router as reminders_router
 from app.pages.inspection import router as inspection_page_router
 from app.pages.vehicle import router as vehicle_page_router
 from app.remedies.api import router as remedies_api_router
@@ -65,7 +67,11 @@ page_routers: tuple[APIRouter, ...] = (
     inspection_page_router,
     statistics_router,
     type_assessments_router,
+    reminders_router,
 )
+
+# The SMS and USSD gateway's callbacks (app/gateway/): plain text in and out, outside the station API.
+callback_routers: tuple[APIRouter, ...] = (africastalking_router,)
 
 # The layout offers its navigation once a session has passed its second factor (accounts decide).
 use_navigation_rule(offers_navigation)

@@ -111,6 +111,53 @@ class Settings(BaseSettings):
     metrics_token: SecretStr | None = Field(default=None, min_length=16)
     # Proxies whose X-Forwarded-Proto/-For uvicorn believes (IPs or networks, comma-separated; "*": any).
     forwarded_allow_ips: str = ""
+    # Feature phones and reminders (docs/notifications.md). The gateway's callbacks are answered only
+    # with ?token=<this> in their URL; unset: the callbacks are off (404).
+    gateway_callback_token: SecretStr | None = Field(default=None, min_length=16)
+    # And, when set, only from these addresses or networks (comma-separated).
+    gateway_allowed_ips: str = ""
+    # Africa's Talking's send API: its base address (the sandbox's, or a local one in tests), the
+    # account's username and API key, and the sender id or short code messages come from.
+    africastalking_base_url: str = "https://api.africastalking.com"
+    africastalking_username: str = "sandbox"
+    africastalking_api_key: SecretStr | None = None
+    africastalking_sender: str | None = None
+    # The country code a phone number written without one belongs to (0801... -> +234801...).
+    phone_country_code: str = Field(default="234", pattern=r"^[1-9][0-9]{0,2}$")
+    # Where reminders by email go out: smtp://user:password@host:587 (STARTTLS when offered) or
+    # smtps://... (TLS from the start); unset: no email is sent (messages wait in the outbox).
+    smtp_url: SecretStr | None = None
+    mail_from: str = "trikecert <reminders@trikecert.invalid>"
+    # Limits: confirmation codes per contact and per client address a day; checks per phone an hour.
+    confirmations_per_contact: int = Field(default=3, ge=1)
+    confirmations_per_address: int = Field(default=20, ge=1)
+    checks_per_phone: int = Field(default=30, ge=1)
+    # The worker: seconds between passes, one send's timeout, attempts before a message is given up.
+    notify_interval_seconds: float = Field(default=30, gt=0, le=3600)
+    notify_timeout_seconds: float = Field(default=10, gt=0, le=120)
+    notify_max_attempts: int = Field(default=8, ge=1, le=50)
+    # Sent and failed messages (their text; the recipient is erased at once) are deleted after this.
+    notify_keep_days: int = Field(default=30, ge=1, le=3650)
+
+    @field_validator(
+        "gateway_callback_token", "africastalking_api_key", "africastalking_sender", "smtp_url", mode="before"
+    )
+    @classmethod
+    def blank_is_unset(cls, value: object) -> object:
+        """An empty variable (as docker-compose passes an unset one) means unset."""
+        return None if value == "" else value
+
+    @field_validator("gateway_allowed_ips")
+    @classmethod
+    def check_gateway_allowed_ips(cls, value: str) -> str:
+        """Each entry an IP address or network."""
+        entries = [entry.strip() for entry in value.split(",") if entry.strip()]
+        for entry in entries:
+            try:
+                ipaddress.ip_network(entry, strict=False)
+            except ValueError:
+                raise ValueError(f"{entry!r} is not an IP address or network") from None
+        return ",".join(entries)
 
     @field_validator("forwarded_allow_ips")
     @classmethod

@@ -55,6 +55,12 @@ PRIVILEGES: dict[str, str] = {
     "statistics_month_station": DISPOSABLE,
     "statistics_hour": DISPOSABLE,  # and pruned once their days have closed
     "statistics_hour_station": DISPOSABLE,
+    # Reminders (app/notifications/): a subscription and its contact are deleted on unsubscribe; an
+    # outbox row is claimed, marked sent and has its recipient erased, and is pruned after retention.
+    "notification_subscription": DISPOSABLE,
+    "notification_outbox": DISPOSABLE,
+    "notification_check": DISPOSABLE,  # the per-phone limit's log, pruned after a day
+    "notification_day": EDITABLE,  # counts by day, bumped by one upsert
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

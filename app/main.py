@@ -15,7 +15,7 @@ from app import __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.certificates.public import public_router
-from app.composition import api_router, hot_router, page_routers
+from app.composition import api_router, callback_routers, hot_router, page_routers
 from app.config import get_settings
 from app.ops.docs import install_docs
 from app.ops.health import router as health_router
@@ -68,6 +68,8 @@ def create_app() -> FastAPI:
     app.include_router(api_router)
     app.include_router(public_router)
     app.include_router(metrics_router)
+    for router in callback_routers:
+        app.include_router(router)
     install_docs(app)
     install_web(app, page_routers)  # the officer pages; after the API's error handlers
     app.add_middleware(RequestContext)

@@ -13,6 +13,7 @@ from app.db import Base
 from app.dynamics.models import VehicleDynamicsRevision
 from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
+from app.notifications.models import GatewayCheck, NotificationDay, OutboxMessage, Subscription
 from app.stations.models import Station, StationRateWindow
 from app.statistics.models import StatisticsDay, StatisticsDayStation
 from app.trust.models import KeyEndorsement, KeyGrandfathered, KeyWithdrawal, SigningKey
@@ -28,6 +29,7 @@ __all__ = [
     "CertificateRevocation",
     "CertificateSequence",
     "FormSubmission",
+    "GatewayCheck",
     "IdempotencyKey",
     "Inspection",
     "KeyEndorsement",
@@ -36,6 +38,8 @@ __all__ = [
     "LoadingCaseRow",
     "LoginAttempt",
     "LoginThrottle",
+    "NotificationDay",
+    "OutboxMessage",
     "Reading",
     "RecoveryCode",
     "Seat",
@@ -44,6 +48,7 @@ __all__ = [
     "StationRateWindow",
     "StatisticsDay",
     "StatisticsDayStation",
+    "Subscription",
     "TypeAssessmentCase",
     "TypeAssessmentInspection",
     "TypeAssessmentRecord",

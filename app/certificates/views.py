@@ -15,12 +15,14 @@ from app.certificates.verification import PayloadCheck, check_payload
 from app.certificates.verify_json import payload_param, verification_json, wants_json
 from app.certificates.wording import (
     NumberRule,
+    lapsed_sentence,
     number_headline,
     public_status,
     qr_explanation,
     qr_title,
     qr_tone,
     sentence,
+    until_sentence,
 )
 from app.config import get_settings
 from app.errors import NotFound
@@ -66,6 +68,8 @@ def document_context(certificate: Certificate, payload: PayloadCheck | None = No
         "headline": wording.status_headline_on(kind, status, status_since(certificate, status)),
         "tone": wording.status_tone(kind, status),
         "valid_until": long_date(certificate.expires_at),
+        "until_text": until_sentence(kind, long_date(certificate.expires_at)),
+        "lapsed_text": lapsed_sentence(kind, status),
         "issued_on": long_date(certificate.issued_at),
         "newer_word": wording.document_kind(newer.kind) if newer is not None else None,
         "public_status": public,

@@ -91,3 +91,18 @@ def sentence(message: str) -> str:
     """A message as a sentence on a page: its first letter in capitals, a full stop at the end."""
     text = message[:1].upper() + message[1:]
     return text if text.endswith(".") else f"{text}."
+
+
+def until_sentence(kind: str, until: str) -> str:
+    """How long a standing document counts: 'Valid until 1 December 2027.' (a refusal: 'stands until')."""
+    return f"{'Valid' if kind == 'compliant' else 'This refusal stands'} until {until}."
+
+
+def lapsed_sentence(kind: str, status: str) -> str:
+    """What a revoked, expired or replaced document still means: 'This certificate was withdrawn: ...'."""
+    word = document_kind(kind)
+    if status == "revoked":
+        return f"This {word} was withdrawn: it certifies nothing."
+    if status == "expired":
+        return f"This {word} no longer counts: the vehicle must be weighed again."
+    return f"This {word} was replaced and no longer counts."

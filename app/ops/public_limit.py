@@ -19,7 +19,7 @@ from app.stations.rate_limit import RATE_LIMIT_RULE
 # What anyone may ask without signing in: the verify form and pages, the QR codes' short addresses,
 # the JSON verification, and the service's public files under /.well-known/ (the published keys; a
 # trust bundle beside them). A prefix match (str.startswith takes a tuple) keeps the check cheap.
-PUBLIC_PATHS = ("/verify", "/v/", "/V/", "/api/v1/verify/", "/.well-known/trikecert-")
+PUBLIC_PATHS = ("/verify", "/v/", "/V/", "/api/v1/verify/", "/.well-known/trikecert-", "/reminders")
 
 
 def wants_json(scope: Scope) -> bool:

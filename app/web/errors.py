@@ -32,8 +32,8 @@ TITLES = {
 
 
 def wants_html(request: Request) -> bool:
-    """A page request: not the API, and a browser asking for HTML."""
-    if request.url.path.startswith("/api/"):
+    """A page request: not the API or the SMS gateway's callbacks, and a browser asking for HTML."""
+    if request.url.path.startswith(("/api/", "/gateway/")):
         return False
     return "text/html" in request.headers.get("accept", "") or request.method == "POST"
 

@@ -1,0 +1,1 @@
+"""Feature phones and reminders (issue 23)."""
