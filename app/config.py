@@ -91,6 +91,9 @@ class Settings(BaseSettings):
     # address and window, far above a police post's use, far below an enumeration of the register.
     public_rate_limit: int = Field(default=300, ge=0)  # 0: off
     public_rate_window_seconds: int = Field(default=60, ge=1, le=3600)
+    # The trust bundle (/.well-known/trikecert-trust): after made_at + this many hours an offline checker
+    # refuses to decide ("Cannot confirm: connect to update the list").
+    trust_max_age_hours: int = Field(default=72, ge=1, le=24 * 30)
     # Slow clients: a request's headers, then its body, must each arrive whole within these seconds.
     header_timeout_seconds: float = Field(default=10, gt=0, le=300)
     body_timeout_seconds: float = Field(default=30, gt=0, le=600)

@@ -117,6 +117,18 @@ def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked"
     return "revoked" if status == "revoked" else "lapsed"
 
 
+def status_meaning(status: str) -> str:
+    """A public status (certified, refused, revoked, superseded, expired) in a few words: what a reader
+    may do with the paper (the command line, the offline check)."""
+    return {
+        "certified": "a certificate in force: the vehicle is certified as below",
+        "refused": "a refusal: the vehicle is NOT certified",
+        "revoked": "REVOKED: it certifies nothing",
+        "superseded": "SUPERSEDED: only the newer document counts",
+        "expired": "EXPIRED: the vehicle must be weighed again",
+    }[status]
+
+
 QR_GENUINE = "The QR code is genuine"
 QR_NOT_GENUINE = "The QR code is NOT genuine: do not rely on this paper"
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Literal
 
 from app.wording import QR_GENUINE, QR_NOT_GENUINE, document_kind
+from app.wording import status_meaning as status_meaning  # the offline check (app/trust) says it too
 
 PublicStatus = Literal["certified", "refused", "revoked", "superseded", "expired"]
 QrTone = Literal["genuine", "forged", "refused", "revoked", "lapsed"]
@@ -90,14 +91,3 @@ def sentence(message: str) -> str:
     """A message as a sentence on a page: its first letter in capitals, a full stop at the end."""
     text = message[:1].upper() + message[1:]
     return text if text.endswith(".") else f"{text}."
-
-
-def status_meaning(status: PublicStatus) -> str:
-    """A public status in a few words, for the command line: what a reader may do with the paper."""
-    return {
-        "certified": "a certificate in force: the vehicle is certified as below",
-        "refused": "a refusal: the vehicle is NOT certified",
-        "revoked": "REVOKED: it certifies nothing",
-        "superseded": "SUPERSEDED: only the newer document counts",
-        "expired": "EXPIRED: the vehicle must be weighed again",
-    }[status]

@@ -247,3 +247,10 @@ def _moment(value: Any) -> datetime:
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < 2**35:
         raise ValueError("a date must be a NumericDate (whole seconds since 1970)")
     return datetime.fromtimestamp(value, UTC)
+
+
+def read_key_id(text: str) -> str:
+    """The key id of a base45 COSE_Sign1 read strictly, before any key is looked up; PayloadRefused
+    (malformed, unsupported_algorithm, unknown_key) when the structure cannot be read."""
+    protected, _payload, _signature = _unpack(text)
+    return _key_id(protected)

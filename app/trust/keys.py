@@ -12,12 +12,13 @@ carries its COSE_Key form (`cose_key`), for the CWT payloads of the QR codes.
 from __future__ import annotations
 
 import base64
+from dataclasses import dataclass, field
 from typing import Any
 
 import cbor2
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
-from sqlalchemy import select
+from sqlalchemy import func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
@@ -125,6 +126,28 @@ def rotate_signing_key(session: Session, settings: Settings) -> SigningKey:
     row = session.scalar(select(SigningKey).where(SigningKey.kid == signer.kid))
     assert row is not None
     return row
+
+
+@dataclass(frozen=True)
+class TrustedKeys:
+    """The key rows trusted online, oldest first; the endorsements about each (by subject kid); the
+    kids withdrawn for compromise."""
+
+    rows: list[SigningKey]
+    endorsements: dict[str, list[Any]] = field(default_factory=dict)
+    withdrawn: set[str] = field(default_factory=set)
+
+
+def trusted_key_rows(session: Session) -> TrustedKeys:
+    """The signing keys this service vouches for (every row, until endorsements are recorded)."""
+    return TrustedKeys(list(session.scalars(select(SigningKey).order_by(SigningKey.id))))
+
+
+def key_event_count(session: Session) -> int:
+    """Key events so far: keys recorded, keys retired (each only grows)."""
+    recorded = session.scalar(select(func.count()).select_from(SigningKey)) or 0
+    retired = session.scalar(select(func.count(SigningKey.retired_at))) or 0
+    return int(recorded) + int(retired)
 
 
 COSE_OKP, COSE_ED25519 = 1, 6  # COSE key type OKP and curve Ed25519 (RFC 9053)

@@ -1,0 +1,198 @@
+"""The trust bundle made from the records: every trusted key with its period and the numbers it signed,
+every revoked and superseded number with its date; signed with the key in force (app/trust/bundle.py
+is its format). Served at /.well-known/trikecert-trust and written by `trikecert trust-bundle`.
+
+`seq` is counted, not stored: revocations + supersessions + key rows + key retirements + withdrawals
++ endorsements. Each of those tables is append-only (or only moves forward: a key is retired once,
+withdrawn once), so the sum strictly increases with every event and never needs a counter that an
+insider could reset. The signed bundle is kept in memory per database and rebuilt as soon as that
+count (or the floor of the active key's numbers, while it has signed none) changes: a revocation is
+in the very next answer. It is also re-signed once it is an hour old, so a checker that syncs gets a
+`made_at` close to now.
+"""
+
+from __future__ import annotations
+
+import gzip
+import hashlib
+import threading
+from dataclasses import dataclass
+from datetime import datetime
+
+from sqlalchemy import func, select
+from sqlalchemy.orm import Session, aliased
+
+from app.certificates.models import Certificate, CertificateRevocation, CertificateSequence
+from app.config import Settings
+from app.db import utcnow
+from app.trust.bundle import (
+    BundleKey,
+    Endorsement,
+    KeyStatus,
+    Mark,
+    TrustBundle,
+    make_payload,
+    sign_bundle,
+    yyyymmdd,
+)
+from app.trust.keys import current_signer, key_event_count, trusted_key_rows
+from app.trust.models import SigningKey
+from app.trust.signing import issuer_claim
+from app.trust.validity import local_date
+
+REFRESH_SECONDS = 3600
+_DIGITS = Certificate.year * 1_000_000 + Certificate.sequence
+
+
+@dataclass(frozen=True)
+class Built:
+    """A signed bundle as served: its bytes, gzip bytes, strong ETags, and what it was built from."""
+
+    body: bytes
+    gzipped: bytes
+    etag: str
+    gzip_etag: str
+    seq: int
+    floor: int | None
+    made_at: int
+
+
+def _count(session: Session, query: object) -> int:
+    return int(session.scalar(query) or 0)  # type: ignore[call-overload]
+
+
+def event_count(session: Session) -> int:
+    """The bundle's `seq`: every revocation, supersession and key event so far (each table only grows)."""
+    revocations = _count(session, select(func.count()).select_from(CertificateRevocation))
+    supersessions = _count(
+        session, select(func.count()).select_from(Certificate).where(Certificate.supersedes_id.is_not(None))
+    )
+    return revocations + supersessions + key_event_count(session)
+
+
+def _floor(session: Session, now: datetime) -> int:
+    """The lowest number still to be issued: one above the newest year's last (or this year's first)."""
+    row = session.execute(
+        select(CertificateSequence.year, CertificateSequence.last_value).order_by(
+            CertificateSequence.year.desc()
+        )
+    ).first()
+    if row is None or row.year < now.year:
+        return now.year * 1_000_000 + 1
+    return int(row.year) * 1_000_000 + int(row.last_value) + 1
+
+
+def _revoked(session: Session) -> dict[int, tuple[int, Mark]]:
+    """Every revoked number (R, its revocation's date) and superseded one (S, its successor's issue date)."""
+    revoked: dict[int, tuple[int, Mark]] = {}
+    newer = aliased(Certificate)
+    superseded = select(_DIGITS, newer.issued_at).join(newer, newer.supersedes_id == Certificate.id)
+    for digits, at in session.execute(superseded):
+        revoked[int(digits)] = (yyyymmdd(local_date(at)), "S")
+    revocations = select(_DIGITS, CertificateRevocation.revoked_at).join(
+        CertificateRevocation, CertificateRevocation.certificate_id == Certificate.id
+    )
+    for digits, at in session.execute(revocations):
+        revoked[int(digits)] = (yyyymmdd(local_date(at)), "R")  # revoked outranks superseded
+    return revoked
+
+
+def _status(row: SigningKey, withdrawn: set[str]) -> KeyStatus:
+    if row.kid in withdrawn:
+        return "compromised"
+    return "active" if row.active else "retired"
+
+
+def _keys(session: Session, floor: int) -> tuple[list[BundleKey], bool]:
+    """The trusted keys with their periods and number ranges; True when the active key signed none yet."""
+    ranges = {
+        kid: (int(first), int(last), issued)
+        for kid, first, last, issued in session.execute(
+            select(
+                Certificate.key_id, func.min(_DIGITS), func.max(_DIGITS), func.min(Certificate.issued_at)
+            ).group_by(Certificate.key_id)
+        )
+    }
+    keys, needs_floor = [], False
+    trusted = trusted_key_rows(session)
+    for row in trusted.rows:
+        status = _status(row, trusted.withdrawn)
+        first, last, issued = ranges.get(row.kid, (None, None, None))
+        numbers: tuple[int, int | None] | None
+        if status == "active":
+            numbers = (first if first is not None else floor, None)
+            needs_floor = needs_floor or first is None
+        else:
+            numbers = None if first is None or last is None else (first, last)
+        began = min(row.created_at, issued) if issued is not None else row.created_at
+        keys.append(
+            BundleKey(
+                kid=row.kid,
+                x=str(row.public_jwk["x"]),
+                status=status,
+                valid_from=int(began.timestamp()),
+                until=None if row.retired_at is None else int(row.retired_at.timestamp()),
+                numbers=numbers,
+                endorsements=tuple(
+                    Endorsement(e.relation, e.signer_kid, e.at_unix, e.signature)
+                    for e in trusted.endorsements.get(row.kid, ())
+                ),
+            )
+        )
+    return keys, needs_floor
+
+
+def build_bundle(session: Session, settings: Settings, now: datetime | None = None) -> Built:
+    """Gather the records and sign the bundle with the key in force (records that key if new; commits)."""
+    now = now or utcnow()
+    signer = current_signer(session, settings)
+    seq = event_count(session)
+    floor = _floor(session, now)
+    keys, needs_floor = _keys(session, floor)
+    bundle = TrustBundle(
+        authority=settings.issuing_authority,
+        issuer=issuer_claim(settings.base_url),
+        seq=seq,
+        made_at=int(now.timestamp()),
+        max_age=settings.trust_max_age_hours * 3600,
+        keys=tuple(keys),
+        revoked=_revoked(session),
+    )
+    session.commit()  # a key recorded on first use
+    body = sign_bundle(make_payload(bundle), kid=signer.kid, key=signer).encode("ascii")
+    digest = hashlib.sha256(body).hexdigest()[:32]
+    return Built(
+        body=body,
+        gzipped=gzip.compress(body, compresslevel=6, mtime=0),
+        etag=f'"{digest}"',
+        gzip_etag=f'"{digest}-gzip"',
+        seq=seq,
+        floor=floor if needs_floor else None,
+        made_at=bundle.made_at,
+    )
+
+
+_cache: dict[str, Built] = {}
+_lock = threading.Lock()
+
+
+def served_bundle(session: Session, settings: Settings) -> Built:
+    """The bundle for this database: the one kept in memory while nothing it lists changed, else a new one."""
+    now = utcnow()
+    held = _cache.get(settings.database_url)
+    if (
+        held is not None
+        and now.timestamp() - held.made_at < REFRESH_SECONDS
+        and held.seq == event_count(session)
+        and (held.floor is None or held.floor == _floor(session, now))
+    ):
+        return held
+    with _lock:
+        built = build_bundle(session, settings, now)
+        _cache[settings.database_url] = built
+        return built
+
+
+def forget_bundles() -> None:
+    """Drop every bundle kept in memory (tests, and a key withdrawn from the command line)."""
+    _cache.clear()
