@@ -190,6 +190,7 @@ def test_offline_by_typed_text_every_verdict(phone: BrowserContext, papers: Pape
 
     type_in(page, papers.revoked["qr_url"])
     verdict(page, "revoked")
+    expect(page.locator("#occupancy")).to_have_count(0)  # its stated occupancy permits nothing
     today = datetime.now(UTC)
     assert headline(page).startswith("REVOKED on ")
     assert str(today.year) in headline(page)

@@ -112,13 +112,20 @@ function show(result) {
     result.since && words.dated[result.code] ? words.dated[result.code].replace("{date}", dayOf(result.since)) : said.headline;
   slot("sentence").textContent = said.sentence;
   const claims = result.claims;
+  // The occupancy in large type only while the paper stands, as on the verify page: a revoked,
+  // superseded or expired paper's stated occupancy must not read as a permission.
+  const stands = result.code === "certified" || result.code === "refusal";
   if (claims) {
     slot("registration").textContent = claims.registration;
     const kind = claims.compliant ? "certificate" : "refusal";
     slot("number").textContent = `${words.titles[kind]} ${claims.number}`;
-    slot("occupancy").textContent = words.occupancy[kind][claims.occupants];
+    if (stands) slot("occupancy").textContent = words.occupancy[kind][claims.occupants];
   } else {
-    for (const name of ["registration-line", "number", "occupancy"]) slot(name).remove();
+    for (const name of ["registration-line", "number"]) slot(name).remove();
+  }
+  if (!claims || !stands) {
+    slot("sentence").classList.add("status__occupancy");
+    slot("occupancy").remove();
   }
   if (result.bundle) slot("checked").textContent = checkedAgainst(result.bundle.made_at);
   else slot("checked").remove();
