@@ -94,6 +94,9 @@ class Settings(BaseSettings):
     # The trust bundle (/.well-known/trikecert-trust): after made_at + this many hours an offline checker
     # refuses to decide ("Cannot confirm: connect to update the list").
     trust_max_age_hours: int = Field(default=72, ge=1, le=24 * 30)
+    # The key ids `trikecert verify --offline` and `trikecert trust-bundle --from` trust a bundle signed
+    # by (comma-separated; each is a thumbprint of its public key), besides any --anchor given.
+    trust_anchors: str = ""
     # Slow clients: a request's headers, then its body, must each arrive whole within these seconds.
     header_timeout_seconds: float = Field(default=10, gt=0, le=300)
     body_timeout_seconds: float = Field(default=30, gt=0, le=600)

@@ -16,6 +16,7 @@ from app.ids import cli_id
 
 if TYPE_CHECKING:
     from app.certificates.wording import PublicStatus
+    from app.trust.bundle import BundleKey, OpenedBundle, TrustBundle
     from app.trust.claims import Claims
 
 
@@ -40,6 +41,7 @@ def load_keys(source: str | None) -> dict[str, Any]:
 
 
 NOT_IN_FORCE = 3  # exit status: the code is genuine, but the paper does not certify the vehicle now
+CANNOT_DECIDE = 4  # exit status (offline): no verdict either way; the sentence says what to do
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -56,6 +58,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     from app.web.formatting import long_date
     from app.wording import document_kind, occupancy_sentence
 
+    if args.offline:
+        return verify_offline(args)
     keys = load_keys(args.keys)
     try:
         verified = verify_input(args.payload, keys)
@@ -81,6 +85,147 @@ def cmd_verify(args: argparse.Namespace) -> int:
             f"{verify_base(get_settings())}/{claims.number}"
         )
     return 0 if in_force(status) else NOT_IN_FORCE
+
+
+def trust_anchors(given: list[str] | None) -> list[str]:
+    """The key ids a bundle may be signed by (or chain from): --anchor, then TRIKECERT_TRUST_ANCHORS."""
+    kids = list(given or [])
+    kids += [kid.strip() for kid in get_settings().trust_anchors.split(",") if kid.strip()]
+    return kids
+
+
+def anchored(text: str, anchors: list[str], held: TrustBundle | None = None) -> OpenedBundle:
+    """Open a bundle trusting the anchor key ids (each checked as the thumbprint of the key the bundle
+    lists under it) and the held bundle's own signing key; BundleRefused says why not."""
+    from app.trust.bundle import BundleRefused, open_bundle, unpack_bundle
+    from app.trust.signer import kid_of_jwk
+
+    listed = unpack_bundle(text).bundle
+    trusted: dict[str, str] = {}
+    for source in (listed, held):
+        for key in source.keys if source is not None else ():
+            jwk = {"kty": "OKP", "crv": "Ed25519", "x": key.x}
+            if key.kid in anchors and kid_of_jwk(jwk) == key.kid:
+                trusted[key.kid] = key.x
+    if held is not None:
+        pinned = held_signer(held)
+        if pinned is not None:
+            trusted[pinned.kid] = pinned.x
+    if not trusted:
+        raise BundleRefused(
+            "bundle_untrusted_key",
+            "no trust anchor: give --anchor KID (the key id this service publishes) or set "
+            "TRIKECERT_TRUST_ANCHORS",
+        )
+    return open_bundle(text, trusted=trusted, held=held)
+
+
+def held_signer(held: TrustBundle) -> BundleKey | None:
+    """The key that signed a held bundle (its one active key)."""
+    return next((key for key in held.keys if key.status == "active"), None)
+
+
+def verify_offline(args: argparse.Namespace) -> int:
+    """`trikecert verify --offline --bundle FILE PAYLOAD`: decide as the /check page does.
+
+    Exit 0 certified, 1 not genuine, 3 genuine but not in force (refusal, revoked, superseded,
+    expired), 4 cannot decide (not ours, no usable bundle, clock behind, bundle too old, damaged,
+    unknown or withdrawn key): the sentence says what to do.
+    """
+    import time
+
+    from app.trust.bundle import BundleRefused
+    from app.trust.offline import checked_against, decide, offline_words
+    from app.web.formatting import long_date
+    from app.wording import occupancy_sentence
+
+    bundle = None
+    if args.bundle is None:
+        print(
+            "trikecert: --offline needs --bundle FILE (written by `trikecert trust-bundle`)", file=sys.stderr
+        )
+    else:
+        try:
+            bundle = anchored(
+                Path(args.bundle).read_text(encoding="ascii"), trust_anchors(args.anchor)
+            ).bundle
+        except (OSError, UnicodeDecodeError) as error:
+            print(f"trikecert: cannot read the bundle {args.bundle}: {error}", file=sys.stderr)
+        except BundleRefused as refused:
+            print(f"trikecert: {offline_words(refused.code).sentence} ({refused.message})", file=sys.stderr)
+    now = args.now if args.now is not None else int(time.time())
+    verdict = decide(args.payload, bundle, now)
+    words = offline_words(verdict.code)
+    print(f"{words.headline} ({verdict.code})")
+    print(words.sentence)
+    if verdict.number is not None:
+        print(f"registration: {verdict.registration} (compare with the plate)")
+        print(f"number: {verdict.number}")
+        if verdict.compliant is not None and verdict.max_occupants is not None:
+            print(occupancy_sentence(verdict.compliant, verdict.max_occupants))
+        if verdict.issued is not None and verdict.expires is not None:
+            print(f"issued {long_date(verdict.issued)}, valid until {long_date(verdict.expires)}")
+    if verdict.list_made_at is not None:
+        print(checked_against(verdict.list_made_at))
+    if verdict.detail:
+        print(f"why: {verdict.detail}")
+    return {"certified": 0, "not_genuine": 1, "refusal": NOT_IN_FORCE, "revoked": NOT_IN_FORCE}.get(
+        verdict.code, NOT_IN_FORCE if verdict.code in ("superseded", "expired") else CANNOT_DECIDE
+    )
+
+
+def cmd_trust_bundle(args: argparse.Namespace) -> int:
+    """Write this service's trust bundle to a file, or (--from) take one in for a held file: checked
+    against the anchors and the held bundle, and written only when it may replace it."""
+    from app.trust.bundle import BundleRefused, unpack_bundle
+    from app.trust.offline import offline_words
+
+    out = Path(args.out)
+    if args.source is None:
+        from app.certificates.trust_bundle import build_bundle
+
+        with get_sessionmaker()() as session:
+            built = build_bundle(session, get_settings())
+        _write_atomically(out, built.body)
+        print(f"wrote the trust bundle (list number {built.state[0]}) to {out}")
+        return 0
+    held = None
+    if out.exists():
+        try:
+            held = unpack_bundle(out.read_text(encoding="ascii")).bundle
+        except (OSError, UnicodeDecodeError, BundleRefused) as error:
+            print(
+                f"trikecert: the held bundle {out} cannot be read ({error}); it is replaced", file=sys.stderr
+            )
+    try:
+        text = _read_source(args.source)
+        opened = anchored(text, trust_anchors(args.anchor), held)
+    except BundleRefused as refused:
+        print(f"trikecert: {offline_words(refused.code).sentence} ({refused.message})", file=sys.stderr)
+        return CANNOT_DECIDE
+    except (OSError, UnicodeDecodeError) as error:
+        print(f"trikecert: cannot read the bundle from {args.source}: {error}", file=sys.stderr)
+        return CANNOT_DECIDE
+    _write_atomically(out, text.strip().encode("ascii"))
+    print(
+        f"took in the trust bundle (list number {opened.bundle.seq}, signed by key {opened.kid}) into {out}"
+    )
+    return 0
+
+
+def _read_source(source: str) -> str:
+    if source.startswith(("http://", "https://")):
+        with urllib.request.urlopen(source, timeout=10) as answer:  # noqa: S310 (scheme checked above)
+            raw: bytes = answer.read(64 * 1024 * 1024 + 1)
+        return raw.decode("ascii")
+    return Path(source).read_text(encoding="ascii")
+
+
+def _write_atomically(path: Path, data: bytes) -> None:
+    """Write beside, then rename over: a reader sees the old bundle or the new one, never half."""
+    temporary = path.with_name(f".{path.name}.new")
+    temporary.write_bytes(data)
+    temporary.replace(path)
 
 
 def offline_status(claims: Claims) -> PublicStatus:
@@ -194,12 +339,23 @@ def add_certificate_commands(commands: Any) -> None:
     verify = commands.add_parser(
         "verify",
         help="check a certificate's QR payload (or verify URL); exit 0 only for a certificate in force, "
-        "1 not genuine, 3 genuine but refused, revoked, superseded or expired",
+        "1 not genuine, 3 genuine but refused, revoked, superseded or expired, 4 (--offline) cannot decide",
     )
     verify.add_argument("payload", metavar="PAYLOAD_OR_URL")
     verify.add_argument(
         "--keys", metavar="FILE_OR_URL", help="published keys (default: this database's keys)"
     )
+    verify.add_argument(
+        "--offline", action="store_true", help="decide from a trust bundle alone, as the /check page does"
+    )
+    verify.add_argument("--bundle", metavar="FILE", help="the trust bundle (trikecert trust-bundle --out)")
+    verify.add_argument(
+        "--anchor",
+        metavar="KID",
+        action="append",
+        help="a key id the bundle must be signed by or chain from (repeatable; also TRIKECERT_TRUST_ANCHORS)",
+    )
+    verify.add_argument("--now", type=int, metavar="UNIX", help="decide as at this UTC time (tests, audits)")
     verify.set_defaults(handler=cmd_verify)
 
     issue = commands.add_parser("issue-certificate", help="issue an inspection's certificate (admin)")
@@ -219,6 +375,16 @@ def add_certificate_commands(commands: Any) -> None:
     commands.add_parser(
         "rotate-signing-key", help="make a new signing key; old ones stay published"
     ).set_defaults(handler=cmd_rotate)
+
+    bundle = commands.add_parser(
+        "trust-bundle",
+        help="write this service's trust bundle to a file; with --from, take one in for a police post "
+        "(kept only when it may replace the file held)",
+    )
+    bundle.add_argument("--out", metavar="FILE", required=True)
+    bundle.add_argument("--from", dest="source", metavar="FILE_OR_URL")
+    bundle.add_argument("--anchor", metavar="KID", action="append")
+    bundle.set_defaults(handler=cmd_trust_bundle)
 
     keys = commands.add_parser("signing-keys", help="print or save the published keys (for offline checks)")
     keys.add_argument("--output", metavar="FILE")

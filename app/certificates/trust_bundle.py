@@ -6,9 +6,10 @@ is its format). Served at /.well-known/trikecert-trust and written by `trikecert
 + endorsements. Each of those tables is append-only (or only moves forward: a key is retired once,
 withdrawn once), so the sum strictly increases with every event and never needs a counter that an
 insider could reset. The signed bundle is kept in memory per database and rebuilt as soon as that
-count (or the floor of the active key's numbers, while it has signed none) changes: a revocation is
-in the very next answer. It is also re-signed once it is an hour old, so a checker that syncs gets a
-`made_at` close to now.
+count, the newest key row or (while the active key has signed none) the floor of its numbers
+changes: a revocation is in the very next answer. `made_at` is the start of the current hour, so the
+bundle is re-signed every hour and every worker process signs the same bytes (Ed25519 is
+deterministic): the same ETag whichever worker answers a checker's conditional request.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ class Built:
     gzipped: bytes
     etag: str
     gzip_etag: str
-    seq: int
+    state: tuple[int, str]
     floor: int | None
     made_at: int
 
@@ -68,6 +69,17 @@ def event_count(session: Session) -> int:
         session, select(func.count()).select_from(Certificate).where(Certificate.supersedes_id.is_not(None))
     )
     return revocations + supersessions + key_event_count(session)
+
+
+def _state(session: Session) -> tuple[int, str]:
+    """What the bundle's content follows, read cheaply: the event count and the newest key row (a
+    database emptied and filled again, as the tests do, is never taken for the one before)."""
+    newest = session.scalar(select(SigningKey.created_at).order_by(SigningKey.id.desc()).limit(1))
+    return event_count(session), "" if newest is None else newest.isoformat()
+
+
+def _hour(now: datetime) -> int:
+    return int(now.timestamp()) // REFRESH_SECONDS * REFRESH_SECONDS
 
 
 def _floor(session: Session, now: datetime) -> int:
@@ -146,14 +158,15 @@ def build_bundle(session: Session, settings: Settings, now: datetime | None = No
     """Gather the records and sign the bundle with the key in force (records that key if new; commits)."""
     now = now or utcnow()
     signer = current_signer(session, settings)
-    seq = event_count(session)
+    state = _state(session)
+    seq = state[0]
     floor = _floor(session, now)
     keys, needs_floor = _keys(session, floor)
     bundle = TrustBundle(
         authority=settings.issuing_authority,
         issuer=issuer_claim(settings.base_url),
         seq=seq,
-        made_at=int(now.timestamp()),
+        made_at=_hour(now),
         max_age=settings.trust_max_age_hours * 3600,
         keys=tuple(keys),
         revoked=_revoked(session),
@@ -166,7 +179,7 @@ def build_bundle(session: Session, settings: Settings, now: datetime | None = No
         gzipped=gzip.compress(body, compresslevel=6, mtime=0),
         etag=f'"{digest}"',
         gzip_etag=f'"{digest}-gzip"',
-        seq=seq,
+        state=state,
         floor=floor if needs_floor else None,
         made_at=bundle.made_at,
     )
@@ -182,8 +195,8 @@ def served_bundle(session: Session, settings: Settings) -> Built:
     held = _cache.get(settings.database_url)
     if (
         held is not None
-        and now.timestamp() - held.made_at < REFRESH_SECONDS
-        and held.seq == event_count(session)
+        and held.made_at == _hour(now)
+        and held.state == _state(session)
         and (held.floor is None or held.floor == _floor(session, now))
     ):
         return held

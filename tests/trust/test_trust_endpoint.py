@@ -1,0 +1,66 @@
+"""GET /.well-known/trikecert-trust: the signed bundle made from the records, a strong ETag and 304,
+gzip when asked, no-cache; a revocation is in the very next answer."""
+
+from __future__ import annotations
+
+import gzip
+
+from fastapi.testclient import TestClient
+from offline_cases import COMPLIANT, COMPLIANT_READINGS, _issue, trust_anchor
+from sqlalchemy.orm import Session
+
+from app.certificates.actors import Actor
+from app.certificates.service import revoke_certificate
+from app.trust.bundle import open_bundle
+from app.trust.numbers import parse_number
+
+PATH = "/.well-known/trikecert-trust"
+
+
+def _open(text: str) -> object:
+    signer = trust_anchor()
+    return open_bundle(text, trusted={signer.kid: signer.public_jwk()["x"]})
+
+
+def test_the_bundle_is_signed_cached_and_compressed(api: TestClient) -> None:
+    paper = _issue(api, "KTU 417 XA", COMPLIANT, COMPLIANT_READINGS)
+    plain = api.get(PATH, headers={"Accept-Encoding": "identity"})
+    assert plain.status_code == 200
+    assert plain.headers["content-type"] == "application/jose"
+    assert plain.headers["cache-control"] == "no-cache"
+    assert "content-encoding" not in plain.headers
+    etag = plain.headers["etag"]
+    assert etag.startswith('"')
+    assert not etag.startswith("W/")
+    opened = _open(plain.text)
+    bundle = opened.bundle  # type: ignore[attr-defined]
+    digits = int(parse_number(paper["number"]).digits)
+    (key,) = bundle.keys
+    assert (key.kid, key.status, key.numbers) == (paper["key_id"], "active", (digits, None))
+    assert bundle.issuer == "127.0.0.1:8000"
+    assert bundle.revoked == {}
+    assert bundle.max_age == 72 * 3600
+
+    again = api.get(PATH, headers={"Accept-Encoding": "identity", "If-None-Match": etag})
+    assert again.status_code == 304
+    assert again.content == b""
+    assert again.headers["etag"] == etag
+
+    zipped = api.get(PATH, headers={"Accept-Encoding": "gzip"})
+    assert zipped.headers["content-encoding"] == "gzip"
+    assert zipped.text == plain.text  # the client unzipped it
+    assert zipped.headers["etag"] != etag  # another representation, another strong tag
+    assert len(gzip.compress(plain.content)) < len(plain.content)
+
+
+def test_a_revocation_is_in_the_very_next_bundle(api: TestClient, session: Session) -> None:
+    paper = _issue(api, "KTU 418 XA", COMPLIANT, COMPLIANT_READINGS)
+    first = api.get(PATH)
+    revoke_certificate(session, number=paper["number"], actor=Actor.of_cli(), reason="plate forged")
+    second = api.get(PATH, headers={"If-None-Match": first.headers["etag"]})
+    assert second.status_code == 200
+    before, after = _open(first.text).bundle, _open(second.text).bundle  # type: ignore[attr-defined]
+    digits = int(parse_number(paper["number"]).digits)
+    assert digits not in before.revoked
+    assert after.revoked[digits][1] == "R"
+    assert after.seq > before.seq
