@@ -7,7 +7,7 @@ saved in docs/screenshots/check-*.png."""
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -28,7 +28,9 @@ from web.webtools import CHROMIUM_ARGS, SCREENSHOTS, TAKE_SCREENSHOTS, axe_viola
 
 # The certificate tests' helpers and the QR tests' wear, as pytest imports them for their own folder.
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "certificates"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "trust"))
 from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh  # noqa: E402
+from offline_cases import bundle_payload, offline_cases, resign  # noqa: E402
 from test_qr_scan import page_png, pdf_file, worn  # noqa: E402
 
 pytestmark = pytest.mark.browser
@@ -129,7 +131,11 @@ def load_then_cut(context: BrowserContext, page: Page, *, at: float | None = Non
 
 
 def made_at(page: Page) -> int:
-    return int(page.evaluate("caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).made_at)"))
+    return int(
+        page.evaluate(
+            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).made_at)"
+        )
+    )
 
 
 def type_in(page: Page, text: str) -> None:
@@ -218,7 +224,11 @@ def test_a_stale_list_and_a_clock_set_back_decide_nothing(phone: BrowserContext,
     page = phone.new_page()
     load_then_cut(phone, page)
     made = made_at(page)
-    max_age = int(page.evaluate("caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).max_age)"))
+    max_age = int(
+        page.evaluate(
+            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).max_age)"
+        )
+    )
 
     page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
     type_in(page, papers.certificate["qr_url"])
@@ -271,7 +281,9 @@ def test_offline_by_a_photo_of_the_printed_paper(
     paper_shown(page, papers.certificate, made_at(page))
     shoot(page, "photo-certified")
 
-    refusal = worn_print(api, papers.refusal, tmp_path / "refusal" if (tmp_path / "refusal").mkdir() is None else tmp_path)
+    refusal = worn_print(
+        api, papers.refusal, tmp_path / "refusal" if (tmp_path / "refusal").mkdir() is None else tmp_path
+    )
     page.locator("#photo").set_input_files(str(refusal))
     verdict(page, "refusal")
 
@@ -324,7 +336,9 @@ def test_offline_by_the_camera(
     ]
     browser = browser_type.launch(**{**browser_type_launch_args, "args": args})
     try:
-        context = browser.new_context(**{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]})
+        context = browser.new_context(
+            **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
+        )
         guard.watch(context)
         page = context.new_page()
         load_then_cut(context, page)
@@ -365,3 +379,94 @@ def test_the_scripts_verify_with_webcrypto_and_with_the_vendored_library(
         ["webcrypto", ["certified", "refusal", "not_genuine"]],
         ["noble", ["certified", "refusal", "not_genuine"]],
     ]
+
+
+def serve(bundle_text: str) -> Callable[[Route], None]:
+    """A route handler answering the bundle's address with this text."""
+
+    def fulfil(route: Route) -> None:
+        route.fulfill(body=bundle_text, content_type="application/jose")
+
+    return fulfil
+
+
+# ---- the shared table of cases (tests/trust/offline_cases.py), through the page ---------------------
+
+
+def test_the_shared_table_of_cases_decides_alike_on_the_page(
+    browser: Browser,
+    browser_context_args: dict[str, Any],
+    guard: Guard,
+    api: TestClient,
+    session: Session,
+) -> None:
+    """Every row as an officer meets it: the row's bundle is the list the page fetched first, its clock
+    the device's, its text typed; the banner shows the row's code (as `decide` and the CLI give it)."""
+    cases = offline_cases(api, session)
+    assert len(cases) >= 20
+    seen = []
+    for case in cases:
+        context = browser.new_context(
+            **{**browser_context_args, "viewport": PHONE, "service_workers": "block"}
+        )
+        guard.watch(context)
+        if case.bundle_text:
+            context.route("**/.well-known/trikecert-trust", serve(case.bundle_text))
+        else:
+            context.route("**/.well-known/trikecert-trust", lambda route: route.abort("internetdisconnected"))
+        page = context.new_page()
+        page.clock.set_fixed_time(datetime.fromtimestamp(case.now_unix, UTC))
+        page.goto("/check/")
+        ready(page)
+        type_in(page, case.payload_text)
+        expect(page.locator("#status"), case.name).to_have_attribute("data-code", case.expected_code)
+        seen.append(case.expected_code)
+        context.close()
+    assert {"certified", "refusal", "revoked", "superseded", "not_genuine", "stale", "clock_behind"} <= set(
+        seen
+    )
+
+
+# ---- a list that must not be taken in --------------------------------------------------------------
+
+
+def test_a_list_refused_never_replaces_the_one_held(phone: BrowserContext, papers: Papers) -> None:
+    """A list with a broken signature, from another authority, or older than the one held: each says
+    so with no verdict colour, and the page keeps deciding by the list it held."""
+    page = phone.new_page()
+    page.goto("/check/")
+    ready(page)
+    held_text = str(
+        page.evaluate(
+            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text())"
+        )
+    )
+    payload = bundle_payload(held_text)
+    made = payload["made_at"]
+    newer = resign({**payload, "seq": payload["seq"] + 5})
+    header, body, signature = newer.split(".")
+    broken = f"{header}.{body}.{signature[:-4]}{'AAAA' if signature[-4:] != 'AAAA' else 'BBBB'}"
+    offered = {
+        "bundle_bad_signature": broken,
+        "bundle_other_issuer": resign(
+            {**payload, "seq": payload["seq"] + 5, "authority": "Another Authority"}
+        ),
+        "bundle_rollback": resign({**payload, "seq": payload["seq"] - 1}),
+    }
+    for code, text in offered.items():
+        phone.unroute("**/.well-known/trikecert-trust")
+        phone.route("**/.well-known/trikecert-trust", serve(text))
+        page.reload()
+        ready(page)
+        notice = page.locator("#list-refused")
+        expect(notice).to_be_visible()
+        expect(notice).to_have_attribute("data-code", code)
+        expect(page.locator("#list-refused-sentence")).to_have_text(offline_words(code).sentence)
+        expect(page.locator("#list-status")).to_have_text(checked_against(made))
+        kept = page.evaluate(
+            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text())"
+        )
+        assert kept == held_text, code
+        type_in(page, papers.certificate["qr_url"])
+        verdict(page, "certified")
+        shoot(page, f"list-refused-{code.removeprefix('bundle_').replace('_', '-')}")
