@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
@@ -23,10 +24,11 @@ VENDORED = {
 }
 
 
-def words_in(html: str) -> dict:
+def words_in(html: str) -> dict[str, Any]:
     found = re.search(r'<script type="application/json" id="check-words">(.*?)</script>', html, re.S)
     assert found is not None
-    return json.loads(found.group(1))
+    words: dict[str, Any] = json.loads(found.group(1))
+    return words
 
 
 def test_check_redirects_into_the_workers_scope(client: TestClient) -> None:
@@ -54,7 +56,11 @@ def test_the_words_come_from_the_offline_wording(client: TestClient) -> None:
     assert words == json.loads(json.dumps(checker_words()))
     for code in CODES:
         said = offline_words(code)
-        assert words["codes"][code] == {"headline": said.headline, "sentence": said.sentence, "tone": said.tone}
+        assert words["codes"][code] == {
+            "headline": said.headline,
+            "sentence": said.sentence,
+            "tone": said.tone,
+        }
     assert words["codes"]["stale"]["sentence"].startswith("Cannot confirm: connect to update the list")
     when = checked_against(1_796_100_000)
     prefix = words["checked_against"]["prefix"]
@@ -76,7 +82,9 @@ def test_the_worker_keeps_the_page_and_its_files(client: TestClient) -> None:
     assert worker.status_code == 200
     assert worker.headers["content-type"].startswith("text/javascript")
     assert worker.headers["cache-control"] == "no-cache"
-    keep = json.loads(re.search(r"const KEEP = (\[.*?\]);", worker.text).group(1))
+    listed = re.search(r"const KEEP = (\[.*?\]);", worker.text)
+    assert listed is not None
+    keep = json.loads(listed.group(1))
     assert {"/check/", "/static/app.css", "/check/static/check.js", "/check/static/decide.js"} <= set(keep)
     assert "/check/static/vendor/jsQR.js" in keep
     for url in keep:

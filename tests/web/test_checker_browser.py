@@ -29,9 +29,9 @@ from web.webtools import CHROMIUM_ARGS, SCREENSHOTS, TAKE_SCREENSHOTS, axe_viola
 # The certificate tests' helpers and the QR tests' wear, as pytest imports them for their own folder.
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "certificates"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "trust"))
-from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh  # noqa: E402
-from offline_cases import bundle_payload, offline_cases, resign  # noqa: E402
-from test_qr_scan import page_png, pdf_file, worn  # noqa: E402
+from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh
+from offline_cases import bundle_payload, offline_cases, resign
+from test_qr_scan import page_png, pdf_file, worn
 
 pytestmark = pytest.mark.browser
 PHONE = {"width": 360, "height": 780}
@@ -118,7 +118,9 @@ def load_then_cut(context: BrowserContext, page: Page, *, at: float | None = Non
     page.evaluate(
         """async () => {
             await navigator.serviceWorker.ready;
-            for (let i = 0; i < 100 && !navigator.serviceWorker.controller; i++) await new Promise(r => setTimeout(r, 50));
+            for (let i = 0; i < 100 && !navigator.serviceWorker.controller; i++) {
+                await new Promise(r => setTimeout(r, 50));
+            }
         }"""
     )
     context.set_offline(True)
@@ -130,12 +132,20 @@ def load_then_cut(context: BrowserContext, page: Page, *, at: float | None = Non
     assert page.evaluate("navigator.onLine") is False
 
 
+HELD = (
+    "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text())"
+)
+
+
+def held_text(page: Page) -> str:
+    """The list the page holds, as it keeps it."""
+    return str(page.evaluate(HELD))
+
+
 def made_at(page: Page) -> int:
-    return int(
-        page.evaluate(
-            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).made_at)"
-        )
-    )
+    """When the list the page holds was made (UTC seconds)."""
+    made: int = bundle_payload(held_text(page))["made_at"]
+    return made
 
 
 def type_in(page: Page, text: str) -> None:
@@ -224,11 +234,7 @@ def test_a_stale_list_and_a_clock_set_back_decide_nothing(phone: BrowserContext,
     page = phone.new_page()
     load_then_cut(phone, page)
     made = made_at(page)
-    max_age = int(
-        page.evaluate(
-            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text()).then(t => JSON.parse(atob(t.split('.')[1].replace(/-/g, '+').replace(/_/g, '/'))).max_age)"
-        )
-    )
+    max_age: int = bundle_payload(held_text(page))["max_age"]
 
     page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
     type_in(page, papers.certificate["qr_url"])
@@ -281,9 +287,8 @@ def test_offline_by_a_photo_of_the_printed_paper(
     paper_shown(page, papers.certificate, made_at(page))
     shoot(page, "photo-certified")
 
-    refusal = worn_print(
-        api, papers.refusal, tmp_path / "refusal" if (tmp_path / "refusal").mkdir() is None else tmp_path
-    )
+    (tmp_path / "refusal").mkdir()
+    refusal = worn_print(api, papers.refusal, tmp_path / "refusal")
     page.locator("#photo").set_input_files(str(refusal))
     verdict(page, "refusal")
 
@@ -362,7 +367,8 @@ def test_the_scripts_verify_with_webcrypto_and_with_the_vendored_library(
         """async ([texts]) => {
             const m = await import('/check/static/decide.js');
             const cache = await caches.open('trikecert-bundle');
-            const held = await m.unpackBundle(await (await cache.match('/.well-known/trikecert-trust')).text());
+            const kept = await cache.match('/.well-known/trikecert-trust');
+            const held = await m.unpackBundle(await kept.text());
             const now = Math.floor(Date.now() / 1000);
             const out = [];
             for (const engine of ['webcrypto', 'noble']) {
@@ -436,12 +442,8 @@ def test_a_list_refused_never_replaces_the_one_held(phone: BrowserContext, paper
     page = phone.new_page()
     page.goto("/check/")
     ready(page)
-    held_text = str(
-        page.evaluate(
-            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text())"
-        )
-    )
-    payload = bundle_payload(held_text)
+    held = held_text(page)
+    payload = bundle_payload(held)
     made = payload["made_at"]
     newer = resign({**payload, "seq": payload["seq"] + 5})
     header, body, signature = newer.split(".")
@@ -463,10 +465,7 @@ def test_a_list_refused_never_replaces_the_one_held(phone: BrowserContext, paper
         expect(notice).to_have_attribute("data-code", code)
         expect(page.locator("#list-refused-sentence")).to_have_text(offline_words(code).sentence)
         expect(page.locator("#list-status")).to_have_text(checked_against(made))
-        kept = page.evaluate(
-            "caches.open('trikecert-bundle').then(c => c.match('/.well-known/trikecert-trust')).then(r => r.text())"
-        )
-        assert kept == held_text, code
+        assert held_text(page) == held, code
         type_in(page, papers.certificate["qr_url"])
         verdict(page, "certified")
         shoot(page, f"list-refused-{code.removeprefix('bundle_').replace('_', '-')}")
