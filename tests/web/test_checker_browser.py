@@ -79,8 +79,11 @@ class Guard:
     def __init__(self, live_server: str) -> None:
         self.host = urlsplit(live_server).netloc
         self.elsewhere: list[str] = []
+        self.bundle_asks: list[str | None] = []  # If-None-Match of every request for the bundle
 
     def route(self, route: Route) -> None:
+        if urlsplit(route.request.url).path == "/.well-known/trikecert-trust":
+            self.bundle_asks.append(route.request.headers.get("if-none-match"))
         if urlsplit(route.request.url).netloc != self.host:
             self.elsewhere.append(route.request.url)
             route.abort("addressunreachable")
@@ -469,3 +472,33 @@ def test_a_list_refused_never_replaces_the_one_held(phone: BrowserContext, paper
         type_in(page, papers.certificate["qr_url"])
         verdict(page, "certified")
         shoot(page, f"list-refused-{code.removeprefix('bundle_').replace('_', '-')}")
+
+
+def test_back_online_the_page_takes_in_a_revocation_made_meanwhile(
+    phone: BrowserContext, papers: Papers, guard: Guard, session: Session, axe_script: Path
+) -> None:
+    """Offline, the page decides by the list it holds (and says how old it is); online again it asks
+    for the list with its ETag (a 304 while nothing changed) and takes the new one in at once."""
+    page = phone.new_page()
+    page.goto("/check/")
+    ready(page)
+    page.reload()  # a second visit: a conditional GET, answered 304
+    ready(page)
+    first = made_at(page)
+    assert guard.bundle_asks[0] is None
+    assert guard.bundle_asks[-1] is not None and guard.bundle_asks[-1].startswith('"')
+    phone.set_offline(True)
+    revoke_certificate(
+        session, number=papers.certificate["number"], actor=Actor.of_cli(), reason="Plate does not match"
+    )
+    session.commit()
+    type_in(page, papers.certificate["qr_url"])
+    verdict(page, "certified")  # the list held predates the revocation: its time is shown
+    expect(page.locator("#checked")).to_have_text(checked_against(first))
+
+    before = str(bundle_payload(held_text(page))["seq"])
+    phone.set_offline(False)
+    expect(page.locator("#list-status")).not_to_have_attribute("data-held", before)
+    type_in(page, papers.certificate["qr_url"])
+    verdict(page, "revoked")
+    assert axe_violations(page, axe_script) == []
