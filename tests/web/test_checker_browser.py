@@ -486,7 +486,9 @@ def test_back_online_the_page_takes_in_a_revocation_made_meanwhile(
     ready(page)
     first = made_at(page)
     assert guard.bundle_asks[0] is None
-    assert guard.bundle_asks[-1] is not None and guard.bundle_asks[-1].startswith('"')
+    asked_with = guard.bundle_asks[-1]
+    assert asked_with is not None
+    assert asked_with.startswith('"')  # a strong ETag
     phone.set_offline(True)
     revoke_certificate(
         session, number=papers.certificate["number"], actor=Actor.of_cli(), reason="Plate does not match"
