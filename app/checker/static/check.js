@@ -6,6 +6,7 @@ import { acceptBundle, decide, unpackBundle, Refused } from "./decide.js";
 const BUNDLE_URL = "/.well-known/trikecert-trust";
 const BUNDLE_CACHE = "trikecert-bundle";
 const PINS = "trikecert.pins";
+const FETCH_TIMEOUT_MS = 20000;
 const words = JSON.parse(document.getElementById("check-words").textContent);
 const $ = (id) => document.getElementById(id);
 const state = { held: null };
@@ -69,16 +70,23 @@ async function keep(opened, etag) {
 async function refresh() {
   const held = state.held;
   let response;
+  // A road with a weak signal may hold a request open for minutes: give up and keep the list held.
+  const abort = new AbortController();
+  const timer = setTimeout(() => abort.abort(), FETCH_TIMEOUT_MS);
   try {
     const headers = held && held.etag ? { "If-None-Match": held.etag } : {};
-    response = await fetch(BUNDLE_URL, { headers, cache: "no-store" });
+    response = await fetch(BUNDLE_URL, { headers, cache: "no-store", signal: abort.signal });
   } catch {
     return; // offline: the list held (if any) stays
+  } finally {
+    clearTimeout(timer);
   }
   if (response.status === 304 || !response.ok) return;
   const text = await response.text();
   try {
-    const opened = await acceptBundle(text, readPins(), held);
+    // The keys pinned; with none stored (storage cleared), the key of the list held, else first use.
+    const pins = readPins() || (held ? { [held.kid]: held.x } : null);
+    const opened = await acceptBundle(text, pins, held);
     opened.text = text;
     opened.etag = response.headers.get("ETag");
     await keep(opened, opened.etag);
