@@ -27,6 +27,9 @@ PRIVILEGES: dict[str, str] = {
     "certificate_revocation": APPEND_ONLY,
     "certificate_audit": APPEND_ONLY,
     "signing_key": "SELECT, INSERT, UPDATE (active, retired_at)",  # retiring; the trigger keeps it so
+    "key_endorsement": APPEND_ONLY,  # signed statements linking keys: a rotation's handover
+    "key_withdrawal": APPEND_ONLY,  # a key withdrawn for compromise, signed by the key in force
+    "key_grandfathered": "SELECT",  # the keys on record at the migration: written by the owner only
     "certificate_sequence": EDITABLE,  # the yearly counter's upsert
     "vehicle": APPEND_ONLY,  # never updated: the plate is kept as weighed (a trigger refuses a change)
     "vehicle_dynamics_revision": APPEND_ONLY,  # every change of the figures kept

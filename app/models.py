@@ -15,7 +15,7 @@ from app.idempotency.models import IdempotencyKey
 from app.inspections.models import Inspection, LoadingCaseRow, Reading
 from app.stations.models import Station, StationRateWindow
 from app.statistics.models import StatisticsDay, StatisticsDayStation
-from app.trust.models import SigningKey
+from app.trust.models import KeyEndorsement, KeyGrandfathered, KeyWithdrawal, SigningKey
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
 from app.vehicles.models import Seat, Vehicle
 from app.web.models import FormSubmission
@@ -30,6 +30,9 @@ __all__ = [
     "FormSubmission",
     "IdempotencyKey",
     "Inspection",
+    "KeyEndorsement",
+    "KeyGrandfathered",
+    "KeyWithdrawal",
     "LoadingCaseRow",
     "LoginAttempt",
     "LoginThrottle",

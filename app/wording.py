@@ -142,6 +142,8 @@ def status_headline_on(kind: str, status: str, since: str | None) -> str:
 _QR_REASONS = {
     "bad_signature": "its content was changed, or it was not signed by the issuing authority",
     "unknown_key": "it was not signed with any key of the issuing authority",
+    "withdrawn_key": "it was signed with a key the issuing authority withdrew because it may have been "
+    "misused: ask the authority for a new paper",
     "unsupported_algorithm": "it was not signed the way the issuing authority signs",
     "malformed": "it is damaged or is not a code the issuing authority makes",
     "tampered": "it was signed for a different document from the one on record under this number",

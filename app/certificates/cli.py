@@ -323,6 +323,38 @@ def cmd_rotate(_args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_withdraw_key(args: argparse.Namespace) -> int:
+    """Withdraw a signing key that may be in other hands (signed by the key in force)."""
+    from app.certificates.trust_bundle import forget_bundles
+    from app.trust.keys import withdraw_signing_key
+
+    with get_sessionmaker()() as session:
+        withdraw_signing_key(session, get_settings(), args.kid, reason=args.reason, by=_actor_label())
+    forget_bundles()
+    print(
+        f"withdrew signing key {args.kid}: its papers no longer count as genuine online and show "
+        "'Cannot confirm' offline once checkers update their list; reissue the papers it signed"
+    )
+    return 0
+
+
+def _actor_label() -> str:
+    """Who runs the command, as the audit log names them."""
+    from app.certificates.actors import Actor
+
+    return Actor.of_cli().label
+
+
+def cmd_endorse_key(args: argparse.Namespace) -> int:
+    """The key in force vouches for an earlier key (after the key was changed outside rotation)."""
+    from app.trust.keys import endorse_signing_key
+
+    with get_sessionmaker()() as session:
+        endorse_signing_key(session, get_settings(), args.kid)
+    print(f"the key in force now vouches for {args.kid}: its papers count as genuine again")
+    return 0
+
+
 def cmd_keys(args: argparse.Namespace) -> int:
     """Print (or save) the published key set, for offline verification."""
     text = json.dumps(load_keys(None), indent=2)
@@ -385,6 +417,21 @@ def add_certificate_commands(commands: Any) -> None:
     bundle.add_argument("--from", dest="source", metavar="FILE_OR_URL")
     bundle.add_argument("--anchor", metavar="KID", action="append")
     bundle.set_defaults(handler=cmd_trust_bundle)
+
+    withdraw = commands.add_parser(
+        "withdraw-signing-key",
+        help="withdraw a signing key that may be in other hands (rotate first if it is the key in force)",
+    )
+    withdraw.add_argument("kid")
+    withdraw.add_argument("--reason", required=True)
+    withdraw.set_defaults(handler=cmd_withdraw_key)
+
+    endorse = commands.add_parser(
+        "endorse-signing-key",
+        help="have the key in force vouch for an earlier key (only after changing the key by hand)",
+    )
+    endorse.add_argument("kid")
+    endorse.set_defaults(handler=cmd_endorse_key)
 
     keys = commands.add_parser("signing-keys", help="print or save the published keys (for offline checks)")
     keys.add_argument("--output", metavar="FILE")

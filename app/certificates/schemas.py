@@ -69,7 +69,9 @@ class CertificateOut(BaseModel):
     pdf_sha256: str
 
 
-QrReason = Literal["ok", "malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"]
+QrReason = Literal[
+    "ok", "malformed", "unsupported_algorithm", "unknown_key", "withdrawn_key", "bad_signature", "tampered"
+]
 
 
 class VerificationOut(BaseModel):

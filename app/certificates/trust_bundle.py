@@ -31,6 +31,7 @@ from app.trust.bundle import (
     Endorsement,
     KeyStatus,
     Mark,
+    Relation,
     TrustBundle,
     make_payload,
     sign_bundle,
@@ -115,6 +116,10 @@ def _status(row: SigningKey, withdrawn: set[str]) -> KeyStatus:
     return "active" if row.active else "retired"
 
 
+def _relation(value: str) -> Relation:
+    return "successor" if value == "successor" else "predecessor"
+
+
 def _keys(session: Session, floor: int) -> tuple[list[BundleKey], bool]:
     """The trusted keys with their periods and number ranges; True when the active key signed none yet."""
     ranges = {
@@ -146,7 +151,7 @@ def _keys(session: Session, floor: int) -> tuple[list[BundleKey], bool]:
                 until=None if row.retired_at is None else int(row.retired_at.timestamp()),
                 numbers=numbers,
                 endorsements=tuple(
-                    Endorsement(e.relation, e.signer_kid, e.at_unix, e.signature)
+                    Endorsement(_relation(e.relation), e.signer_kid, e.at, e.signature)
                     for e in trusted.endorsements.get(row.kid, ())
                 ),
             )

@@ -12,7 +12,9 @@ from typing import Any, Literal
 
 Verdict = Literal["C", "NC"]
 DocumentKind = Literal["certificate", "refusal"]
-Reason = Literal["malformed", "unsupported_algorithm", "unknown_key", "bad_signature", "tampered"]
+Reason = Literal[
+    "malformed", "unsupported_algorithm", "unknown_key", "withdrawn_key", "bad_signature", "tampered"
+]
 
 
 class PayloadRefused(Exception):
@@ -61,6 +63,19 @@ def find_key(jwks: dict[str, Any], kid: str) -> dict[str, Any] | None:
         if isinstance(key, dict) and key.get("kid") == kid:
             return key
     return None
+
+
+def usable_key(jwks: dict[str, Any], kid: str) -> dict[str, Any]:
+    """The published key with this id; PayloadRefused when there is none, or it was withdrawn."""
+    public = find_key(jwks, kid)
+    if public is None:
+        raise PayloadRefused("unknown_key", f"unknown key: no published key has the id {kid!r}")
+    if public.get("status") == "compromised":
+        raise PayloadRefused(
+            "withdrawn_key",
+            f"withdrawn key: the key {kid} was withdrawn by the issuing authority (it may have been misused)",
+        )
+    return public
 
 
 def tampered(error: Exception) -> PayloadRefused:

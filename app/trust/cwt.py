@@ -37,7 +37,7 @@ import cbor2
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
-from app.trust.claims import Claims, DocumentKind, PayloadRefused, Verified, find_key, tampered
+from app.trust.claims import Claims, DocumentKind, PayloadRefused, Verified, tampered, usable_key
 from app.trust.numbers import SEQUENCE_DIGITS, CertificateNumber, InvalidNumber, parse_number
 from app.trust.signer import SignsBytes
 from app.trust.validity import local_date
@@ -168,9 +168,7 @@ def verify_cwt(text: str, jwks: dict[str, Any]) -> Verified:
     """Check a base45 COSE_Sign1 CWT against the published keys; PayloadRefused says why it is not genuine."""
     protected, payload, signature = _unpack(text)
     kid = _key_id(protected)
-    public = find_key(jwks, kid)
-    if public is None:
-        raise PayloadRefused("unknown_key", f"unknown key: no published key has the id {kid!r}")
+    public = usable_key(jwks, kid)
     try:
         _public_key(public).verify(signature, _sig_structure(protected, payload))
     except (InvalidSignature, ValueError, binascii.Error) as error:

@@ -18,7 +18,7 @@ from joserfc import jws
 from joserfc.errors import JoseError
 from joserfc.jwk import OKPKey
 
-from app.trust.claims import Claims, PayloadRefused, Verdict, Verified, find_key, tampered
+from app.trust.claims import Claims, PayloadRefused, Verdict, Verified, tampered, usable_key
 from app.trust.numbers import InvalidNumber, parse_number
 
 ALGORITHM = "Ed25519"
@@ -119,9 +119,9 @@ def verify_jws(token: str, jwks: dict[str, Any]) -> Verified:
             "unsupported_algorithm", f"unsupported algorithm {header['alg']!r}; expected Ed25519"
         )
     kid = header["kid"]
-    public = find_key(jwks, kid) if isinstance(kid, str) else None
-    if public is None:
+    if not isinstance(kid, str):
         raise PayloadRefused("unknown_key", f"unknown key: no published key has the id {kid!r}")
+    public = usable_key(jwks, kid)
     try:
         key = OKPKey.import_key({k: public[k] for k in ("kty", "crv", "x")})
         verified = jws.deserialize_compact(token, key, algorithms=[ALGORITHM])

@@ -17,7 +17,7 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from sqlalchemy.engine import make_url
 
 from app.config import Settings
-from app.trust.signer import KeyUnavailable, MemorySigner, parse_private_key, private_pem
+from app.trust.signer import Handover, KeyUnavailable, MemorySigner, parse_private_key, private_pem
 
 DEFAULT_NAME = "trikecert-signing-key.pem"
 
@@ -128,10 +128,18 @@ class KeyFile:
             write_new_key_file(self.path, Ed25519PrivateKey.generate())
         return MemorySigner(read_key_file(self.path), "file")
 
-    def rotate(self) -> MemorySigner:
-        """A new key renamed over the old, whose bytes are then overwritten with zeros."""
+    def rotate(self, handover: Handover | None = None) -> MemorySigner:
+        """A new key renamed over the old, whose bytes are then overwritten with zeros; `handover`
+        between the two, while the old key can still sign."""
         new = Ed25519PrivateKey.generate()
+        held = MemorySigner(read_key_file(self.path), "file") if self.path.exists() else None
         beside = _write_beside(self.path, private_pem(new))
+        if handover is not None:
+            try:
+                handover(held, MemorySigner(new, "file"))
+            except BaseException:
+                beside.unlink()
+                raise
         try:
             old = os.open(self.path, os.O_RDWR)
         except FileNotFoundError:

@@ -12,7 +12,9 @@ carries its COSE_Key form (`cose_key`), for the CWT payloads of the QR codes.
 from __future__ import annotations
 
 import base64
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import cbor2
@@ -22,12 +24,14 @@ from sqlalchemy import func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from app.config import Settings
+from app.config import Settings, get_settings
 from app.db import utcnow
+from app.errors import Conflict, InvalidInput, NotFound
+from app.trust.bundle import BundleRefused, Relation, b64url, endorsement_text, unb64url, verifies
 from app.trust.cwt import EDDSA, kid_bytes
 from app.trust.jws import ALGORITHM
 from app.trust.keyfile import KeyFile, default_key_path
-from app.trust.models import SigningKey
+from app.trust.models import KeyEndorsement, KeyGrandfathered, KeyWithdrawal, SigningKey
 from app.trust.signer import (
     KID_LENGTH,
     ConfiguredKey,
@@ -88,6 +92,186 @@ def _retire_others(session: Session, kid: str) -> None:
         row.retired_at = now
 
 
+_store_kids: dict[tuple[str, ...], str] = {}
+
+
+def store_kid(settings: Settings) -> str | None:
+    """The id of the key the store holds now, the root of trust (None: a key file not made yet). A key
+    file is read again when it changes (its size and time); a token is asked once per process, and
+    again whenever this process signs or rotates (`current_signer`, `rotate_signing_key`)."""
+    store = key_store(settings)
+    if isinstance(store, ConfiguredKey):
+        return store.current().kid
+    if isinstance(store, KeyFile):
+        try:
+            found = store.path.stat()
+        except FileNotFoundError:
+            return None
+        except OSError as error:
+            raise KeyUnavailable(f"cannot read the signing key file {store.path}: {error}") from error
+        marker: tuple[str, ...] = (
+            store.describe(),
+            str(found.st_mtime_ns),
+            str(found.st_size),
+            str(found.st_ino),
+        )
+    else:
+        marker = (store.describe(),)
+    kid = _store_kids.get(marker)
+    if kid is None:
+        kid = store.current().kid
+        _store_kids[marker] = kid
+    return kid
+
+
+def _remember(store: KeyStore, kid: str) -> None:
+    if not isinstance(store, KeyFile | ConfiguredKey):
+        _store_kids[(store.describe(),)] = kid
+
+
+def _x(row: SigningKey) -> str:
+    return str(row.public_jwk["x"])
+
+
+def withdrawal_text(kid: str, x: str, at: int) -> bytes:
+    """The exact ASCII bytes a key's withdrawal signs (docs/verification.md)."""
+    return f"trikecert-key-withdrawal:1:{kid}:{x}:{at}".encode("ascii")
+
+
+@lru_cache(maxsize=4096)
+def _holds(x: str, signature: str, message: bytes) -> bool:
+    """An Ed25519 signature check, remembered: the statements it checks are never changed."""
+    try:
+        raw = unb64url(signature, "signature")
+    except BundleRefused:
+        return False
+    return verifies(x, raw, message)
+
+
+@dataclass(frozen=True)
+class TrustedKeys:
+    """The key rows this service vouches for, oldest first; the endorsements about each (by subject kid,
+    only those signed by a trusted key); the kids withdrawn for compromise (still listed, as such)."""
+
+    rows: list[SigningKey]
+    endorsements: dict[str, list[KeyEndorsement]] = field(default_factory=dict)
+    withdrawn: set[str] = field(default_factory=set)
+
+
+def chain_of_trust(
+    rows: Sequence[SigningKey],
+    statements: Sequence[KeyEndorsement],
+    withdrawals: Sequence[KeyWithdrawal],
+    root: str | None,
+) -> TrustedKeys:
+    """The keys reached from `root` (the store's key) through statements signed by keys already reached:
+    a `predecessor` statement vouches for the key before, the first valid `successor` statement of a
+    key for the key after it (a process that has not seen a rotation yet still trusts the new key). A
+    withdrawal signed by a reached key (not the withdrawn one) marks a key compromised; statements a
+    withdrawn key signed then count for nothing. Any other row (one an insider inserted) is left out."""
+    by_kid = {row.kid: row for row in rows}
+
+    def valid(statement: KeyEndorsement) -> bool:
+        signer, subject = by_kid.get(statement.signer_kid), by_kid.get(statement.subject_kid)
+        if signer is None or subject is None or signer.kid == subject.kid:
+            return False
+        text = endorsement_text(statement.relation, signer.kid, subject.kid, _x(subject), statement.at)  # type: ignore[arg-type]
+        return _holds(_x(signer), statement.signature, text)
+
+    first_successor: dict[str, int] = {}
+    for statement in statements:
+        if (
+            statement.relation == "successor"
+            and statement.signer_kid not in first_successor
+            and valid(statement)
+        ):
+            first_successor[statement.signer_kid] = statement.id
+
+    def reach(ignored: set[str]) -> set[str]:
+        reached = {root} if root in by_kid else set()
+        grew = True
+        while grew:
+            grew = False
+            for statement in statements:
+                signer, subject = statement.signer_kid, statement.subject_kid
+                if signer not in reached or signer in ignored or subject in reached:
+                    continue
+                if statement.relation == "successor" and first_successor.get(signer) != statement.id:
+                    continue
+                if valid(statement):
+                    reached.add(subject)
+                    grew = True
+        return reached
+
+    first = reach(set())
+    withdrawn = {
+        w.kid
+        for w in withdrawals
+        if w.kid in first
+        and w.signer_kid in first
+        and w.signer_kid != w.kid
+        and _holds(_x(by_kid[w.signer_kid]), w.signature, withdrawal_text(w.kid, _x(by_kid[w.kid]), w.at))
+    }
+    trusted = reach(withdrawn) | withdrawn
+    endorsements: dict[str, list[KeyEndorsement]] = {}
+    for statement in statements:
+        if statement.signer_kid in trusted and statement.subject_kid in trusted and valid(statement):
+            endorsements.setdefault(statement.subject_kid, []).append(statement)
+    return TrustedKeys([row for row in rows if row.kid in trusted], endorsements, withdrawn)
+
+
+def trusted_key_rows(session: Session, settings: Settings | None = None) -> TrustedKeys:
+    """The signing keys this service vouches for: those that chain to the key its store holds."""
+    rows = session.scalars(select(SigningKey).order_by(SigningKey.id)).all()
+    statements = session.scalars(select(KeyEndorsement).order_by(KeyEndorsement.id)).all()
+    withdrawals = session.scalars(select(KeyWithdrawal).order_by(KeyWithdrawal.kid)).all()
+    return chain_of_trust(rows, statements, withdrawals, store_kid(settings or get_settings()))
+
+
+def key_event_count(session: Session) -> int:
+    """Key events so far: keys recorded, retired, endorsed, withdrawn (each table only grows)."""
+    counts = [
+        session.scalar(select(func.count()).select_from(SigningKey)),
+        session.scalar(select(func.count(SigningKey.retired_at))),
+        session.scalar(select(func.count()).select_from(KeyEndorsement)),
+        session.scalar(select(func.count()).select_from(KeyWithdrawal)),
+    ]
+    return sum(int(count or 0) for count in counts)
+
+
+def _endorse(session: Session, signer: Signer, subject_kid: str, subject_x: str, relation: Relation) -> None:
+    at = int(utcnow().timestamp())
+    signature = signer.sign(endorsement_text(relation, signer.kid, subject_kid, subject_x, at))
+    session.add(
+        KeyEndorsement(
+            signer_kid=signer.kid,
+            subject_kid=subject_kid,
+            relation=relation,
+            at=at,
+            signature=b64url(signature),
+        )
+    )
+
+
+def _grandfather(session: Session, signer: Signer) -> None:
+    """The key in force vouches (as predecessors) for the keys on record when endorsements began that no
+    key has vouched for yet: once, on its first start after the migration (flushed)."""
+    vouched = select(KeyEndorsement.subject_kid).where(KeyEndorsement.relation == "predecessor")
+    pending = session.scalars(
+        select(SigningKey)
+        .join(KeyGrandfathered, KeyGrandfathered.kid == SigningKey.kid)
+        .where(SigningKey.kid != signer.kid, SigningKey.kid.not_in(vouched))
+    ).all()
+    if not pending:
+        return
+    try:
+        with session.begin_nested():
+            for row in pending:
+                _endorse(session, signer, row.kid, _x(row), "predecessor")
+    except IntegrityError:
+        pass  # another process vouched for them at the same moment
+
+
 def _record(session: Session, signer: Signer) -> None:
     """Record the signer's public key as the active one and retire every other (flushed)."""
     _retire_others(session, signer.kid)
@@ -103,6 +287,7 @@ def current_signer(session: Session, settings: Settings) -> Signer:
     """The key that signs now, from the store the settings name; recorded (public half) if new."""
     store = key_store(settings)
     signer = store.current()
+    _remember(store, signer.kid)
     row = session.scalar(select(SigningKey).where(SigningKey.kid == signer.kid))
     if row is None:
         _record(session, signer)
@@ -114,40 +299,92 @@ def current_signer(session: Session, settings: Settings) -> Signer:
             field="signing_key",
             rule="retired",
         )
+    _grandfather(session, signer)
     return signer
 
 
 def rotate_signing_key(session: Session, settings: Settings) -> SigningKey:
-    """Put a new key in force in the store (destroying the old private key), retire every other key in
-    the table and record the new one; old public keys stay published. Commits."""
-    signer = key_store(settings).rotate()
-    _record(session, signer)
-    session.commit()
+    """Put a new key in force in the store, retire every other key in the table and record the new
+    one, the old key naming it its successor and the new key naming the old its predecessor (committed
+    before the store destroys the old private key); old public keys stay published."""
+    store = key_store(settings)
+
+    def handover(old: Signer | None, new: Signer) -> None:
+        _record(session, new)
+        session.flush()
+        if (
+            old is not None
+            and old.kid != new.kid
+            and session.get(SigningKey, _row_id(session, old.kid)) is not None
+        ):
+            _endorse(session, old, new.kid, str(new.public_jwk()["x"]), "successor")
+            _endorse(session, new, old.kid, str(old.public_jwk()["x"]), "predecessor")
+        session.commit()
+
+    signer = store.rotate(handover)
+    _remember(store, signer.kid)
     row = session.scalar(select(SigningKey).where(SigningKey.kid == signer.kid))
     assert row is not None
     return row
 
 
-@dataclass(frozen=True)
-class TrustedKeys:
-    """The key rows trusted online, oldest first; the endorsements about each (by subject kid); the
-    kids withdrawn for compromise."""
-
-    rows: list[SigningKey]
-    endorsements: dict[str, list[Any]] = field(default_factory=dict)
-    withdrawn: set[str] = field(default_factory=set)
+def _row_id(session: Session, kid: str) -> int:
+    return int(session.scalar(select(SigningKey.id).where(SigningKey.kid == kid)) or 0)
 
 
-def trusted_key_rows(session: Session) -> TrustedKeys:
-    """The signing keys this service vouches for (every row, until endorsements are recorded)."""
-    return TrustedKeys(list(session.scalars(select(SigningKey).order_by(SigningKey.id))))
+def endorse_signing_key(session: Session, settings: Settings, kid: str) -> SigningKey:
+    """The key in force vouches for an earlier key as its predecessor: after the key was changed outside
+    `rotate-signing-key` (a configured key replaced, a token swapped), no statement links them. Commits."""
+    signer = current_signer(session, settings)
+    row = session.scalar(select(SigningKey).where(SigningKey.kid == kid))
+    if row is None:
+        raise NotFound(f"kid: no signing key {kid} is on record", field="kid", rule="exists")
+    if kid == signer.kid:
+        raise Conflict(
+            f"kid: {kid} is the key in force; it needs no endorsement", field="kid", rule="in_force"
+        )
+    _endorse(session, signer, kid, _x(row), "predecessor")
+    try:
+        session.commit()
+    except IntegrityError as error:
+        session.rollback()
+        raise Conflict(
+            f"kid: the key in force already vouches for {kid}", field="kid", rule="endorsed"
+        ) from error
+    return row
 
 
-def key_event_count(session: Session) -> int:
-    """Key events so far: keys recorded, keys retired (each only grows)."""
-    recorded = session.scalar(select(func.count()).select_from(SigningKey)) or 0
-    retired = session.scalar(select(func.count(SigningKey.retired_at))) or 0
-    return int(recorded) + int(retired)
+def withdraw_signing_key(
+    session: Session, settings: Settings, kid: str, *, reason: str, by: str
+) -> SigningKey:
+    """Withdraw a key that may be in other hands: the key in force signs the withdrawal (it cannot
+    withdraw itself: rotate first). Its papers stop counting online and show "Cannot confirm" offline."""
+    reason = reason.strip()
+    if not reason:
+        raise InvalidInput("reason: say why the key is withdrawn", field="reason", rule="required")
+    signer = current_signer(session, settings)
+    row = session.scalar(select(SigningKey).where(SigningKey.kid == kid))
+    if row is None:
+        raise NotFound(f"kid: no signing key {kid} is on record", field="kid", rule="exists")
+    if kid == signer.kid:
+        raise Conflict(
+            f"kid: {kid} is the key in force; rotate first (trikecert rotate-signing-key), then withdraw it",
+            field="kid",
+            rule="in_force",
+        )
+    if kid not in {trusted.kid for trusted in trusted_key_rows(session, settings).rows}:
+        raise Conflict(f"kid: {kid} is not one of this service's keys", field="kid", rule="untrusted")
+    if session.get(KeyWithdrawal, kid) is not None:
+        raise Conflict(f"kid: {kid} is already withdrawn", field="kid", rule="withdrawn")
+    at = int(utcnow().timestamp())
+    signature = b64url(signer.sign(withdrawal_text(kid, _x(row), at)))
+    session.add(
+        KeyWithdrawal(
+            kid=kid, signer_kid=signer.kid, at=at, reason=reason, withdrawn_by=by[:200], signature=signature
+        )
+    )
+    session.commit()
+    return row
 
 
 COSE_OKP, COSE_ED25519 = 1, 6  # COSE key type OKP and curve Ed25519 (RFC 9053)
@@ -161,8 +398,9 @@ def cose_key(jwk: dict[str, Any], kid: str) -> str:
 
 
 def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
-    """Every public key ever used, newest first, as a JWKS with the issuer's name and each COSE_Key."""
-    rows = session.scalars(select(SigningKey).order_by(SigningKey.id.desc())).all()
+    """Every key this service vouches for (those that chain to the key its store holds), newest first,
+    as a JWKS with the issuer's name and each COSE_Key; a withdrawn key is listed with its status."""
+    trusted = trusted_key_rows(session, settings)
     return {
         "issuer": settings.issuing_authority,
         "keys": [
@@ -171,10 +409,13 @@ def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
                 "kid": row.kid,
                 "alg": ALGORITHM,
                 "use": "sig",
-                "active": row.active,
+                "active": row.active and row.kid not in trusted.withdrawn,
+                "status": "compromised"
+                if row.kid in trusted.withdrawn
+                else ("active" if row.active else "retired"),
                 "created_at": row.created_at.isoformat(),
                 "cose_key": cose_key(row.public_jwk, row.kid),
             }
-            for row in rows
+            for row in reversed(trusted.rows)
         ],
     }

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from app.config import Settings
-from app.trust.signer import KeyUnavailable, kid_of_jwk
+from app.trust.signer import Handover, KeyUnavailable, kid_of_jwk
 
 ED25519_OID = "1.3.101.112"
 PENDING = ".new"
@@ -174,15 +174,31 @@ class TokenStore:
         assert signer is not None
         return signer
 
-    def rotate(self) -> TokenSigner:
-        """A new pair under a temporary label, the old pair destroyed, the new one labelled."""
+    def rotate(self, handover: Handover | None = None) -> TokenSigner:
+        """A new pair under a temporary label, `handover` while both can sign (outside the lock: each
+        signature takes it), the old pair destroyed, the new one labelled."""
         with self.token.lock, self.token.failures("rotate the signing key"):
+            old = self._in_force()
             self.token.generate(self.key_label + PENDING)
+            new = self._signer(self.token.pairs(self.key_label + PENDING)[0])
+        if handover is not None:
+            try:
+                handover(old, new)
+            except BaseException:
+                with self.token.lock, self.token.failures("drop the new signing key"):
+                    for pair in self.token.pairs(self.key_label + PENDING):
+                        self.token.destroy(pair)
+                raise
+        with self.token.lock:
+            self._finish_rotation()
+        return self.current()
+
+    def _finish_rotation(self) -> None:
+        with self.token.failures("rotate the signing key"):
             for pair in self.token.pairs(self.key_label):
                 self.token.destroy(pair)
             for pair in self.token.pairs(self.key_label + PENDING):
                 self.token.relabel(pair, self.key_label)
-        return self.current()
 
 
 def token_store(settings: Settings) -> TokenStore:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import base64
 import binascii
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Protocol
@@ -65,9 +66,15 @@ class KeyStore(Protocol):
         """The key in force, made on first use when the store can make one."""
         ...
 
-    def rotate(self) -> Signer:
-        """Put a new key in force and destroy the one it replaces; the new key's signer."""
+    def rotate(self, handover: Handover | None = None) -> Signer:
+        """Put a new key in force and destroy the one it replaces; the new key's signer. `handover`
+        is called with the old key (None if there was none) and the new one after the new key exists
+        and before the old one is destroyed: the two sign their statements about each other then."""
         ...
+
+
+# Called at a rotation with (old signer or None, new signer) while both keys can still sign.
+Handover = Callable[[Signer | None, Signer], None]
 
 
 class KeyUnavailable(ServiceError):
@@ -152,7 +159,7 @@ class ConfiguredKey:
         """The configured key."""
         return MemorySigner(parse_private_key(self.value), "configuration")
 
-    def rotate(self) -> Signer:
+    def rotate(self, handover: Handover | None = None) -> Signer:
         """Refused: the operator rotates a configured key by changing the setting."""
         raise Conflict(
             "the signing key is given by TRIKECERT_SIGNING_KEY; rotate it by changing that setting",
