@@ -16,6 +16,7 @@ from urllib.parse import urlsplit
 
 import base45  # type: ignore[import-untyped]
 import pytest
+import segno
 from fastapi.testclient import TestClient
 from PIL import Image
 from playwright.sync_api import Browser, BrowserContext, BrowserType, Page, Route, expect
@@ -278,7 +279,30 @@ def test_with_no_list_held_the_page_says_what_to_do(
 
 def worn_print(api: TestClient, paper: dict[str, Any], folder: Path) -> Path:
     """The paper's PDF rendered at 150 dpi and worn (blurred, speckled, turned 7 degrees, JPEG 30)."""
+    folder.mkdir(exist_ok=True)
     return worn(page_png(pdf_file(api, paper, folder), 150), 2)
+
+
+def worn_code(text: str, folder: Path) -> Path:
+    """A QR code of any text as the PDF prints one (level M, 0.85 mm modules at 150 dpi), worn alike:
+    for a forged payload, which no PDF of ours carries."""
+    folder.mkdir(exist_ok=True)
+    picture = folder / "code.png"
+    segno.make(text, error="m", boost_error=False).save(str(picture), kind="png", scale=5, border=4)
+    page = Image.new("L", (1240, 1754), 255)
+    page.paste(Image.open(picture).convert("L"), (700, 200))
+    page.save(picture)
+    return worn(picture, 2)
+
+
+def pictures(api: TestClient, papers: Papers, folder: Path) -> dict[str, Path]:
+    """A worn picture of each paper, by the verdict it must get: printed PDFs, and a forged code."""
+    return {
+        "certified": worn_print(api, papers.certificate, folder / "certificate"),
+        "refusal": worn_print(api, papers.refusal, folder / "refusal"),
+        "revoked": worn_print(api, papers.revoked, folder / "revoked"),
+        "not_genuine": worn_code(tampered(papers.certificate), folder / "forged"),
+    }
 
 
 def test_offline_by_a_photo_of_the_printed_paper(
@@ -286,16 +310,22 @@ def test_offline_by_a_photo_of_the_printed_paper(
 ) -> None:
     page = phone.new_page()
     load_then_cut(phone, page)
-    photo = worn_print(api, papers.certificate, tmp_path)
-    page.locator("#photo").set_input_files(str(photo))
+    made = made_at(page)
+    photos = pictures(api, papers, tmp_path)
+    for code, photo in photos.items():
+        page.locator("#photo").set_input_files(str(photo))
+        verdict(page, code)
+    page.locator("#photo").set_input_files(str(photos["certified"]))
     verdict(page, "certified")
-    paper_shown(page, papers.certificate, made_at(page))
+    paper_shown(page, papers.certificate, made)
     shoot(page, "photo-certified")
-
-    (tmp_path / "refusal").mkdir()
-    refusal = worn_print(api, papers.refusal, tmp_path / "refusal")
-    page.locator("#photo").set_input_files(str(refusal))
-    verdict(page, "refusal")
+    max_age: int = bundle_payload(held_text(page))["max_age"]
+    page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
+    page.locator("#photo").set_input_files(str(photos["certified"]))
+    verdict(page, "stale")
+    page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
+    page.locator("#photo").set_input_files(str(photos["certified"]))
+    verdict(page, "clock_behind")
 
 
 def qr_region(picture: Path) -> Image.Image:
@@ -328,7 +358,9 @@ def y4m(frame: Image.Image, target: Path, frames: int = 10) -> Path:
     return target
 
 
+@pytest.mark.parametrize("code", ["certified", "refusal", "revoked", "not_genuine"])
 def test_offline_by_the_camera(
+    code: str,
     browser_type: BrowserType,
     browser_type_launch_args: dict[str, Any],
     browser_context_args: dict[str, Any],
@@ -337,7 +369,8 @@ def test_offline_by_the_camera(
     api: TestClient,
     tmp_path: Path,
 ) -> None:
-    video = y4m(qr_region(worn_print(api, papers.certificate, tmp_path)), tmp_path / "camera.y4m")
+    """Chromium's fake camera plays the worn picture framed as a phone held over the code would."""
+    video = y4m(qr_region(pictures(api, papers, tmp_path)[code]), tmp_path / "camera.y4m")
     args = [
         *CHROMIUM_ARGS,
         "--use-fake-device-for-media-stream",
@@ -352,11 +385,20 @@ def test_offline_by_the_camera(
         guard.watch(context)
         page = context.new_page()
         load_then_cut(context, page)
+        made = made_at(page)
         page.locator("#camera-start").click()
-        verdict(page, "certified")
-        paper_shown(page, papers.certificate, made_at(page))
+        verdict(page, code)
         expect(page.locator("#camera")).to_be_hidden()  # the camera is let go once a code is read
-        shoot(page, "camera-certified")
+        if code == "certified":
+            paper_shown(page, papers.certificate, made)
+            shoot(page, "camera-certified")
+            max_age: int = bundle_payload(held_text(page))["max_age"]
+            page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
+            page.locator("#camera-start").click()
+            verdict(page, "stale")
+            page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
+            page.locator("#camera-start").click()
+            verdict(page, "clock_behind")
         context.close()
     finally:
         browser.close()
