@@ -236,7 +236,9 @@ def test_offline_by_typed_text_every_verdict(phone: BrowserContext, papers: Pape
     shoot(page, "not-ours")
 
 
-def test_a_stale_list_and_a_clock_set_back_decide_nothing(phone: BrowserContext, papers: Papers) -> None:
+def test_a_stale_list_and_a_clock_set_back_decide_nothing(
+    phone: BrowserContext, papers: Papers, axe_script: Path
+) -> None:
     page = phone.new_page()
     load_then_cut(phone, page)
     made = made_at(page)
@@ -248,6 +250,7 @@ def test_a_stale_list_and_a_clock_set_back_decide_nothing(phone: BrowserContext,
     assert "connect to update the list" in page.locator("#sentence").inner_text()
     expect(page.locator("#checked")).to_have_text(checked_against(made))
     expect(page.locator(".status--valid")).to_have_count(0)
+    assert axe_violations(page, axe_script) == []  # the banner without colour too
     shoot(page, "stale")
 
     page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
