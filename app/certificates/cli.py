@@ -16,7 +16,7 @@ from app.ids import cli_id
 
 if TYPE_CHECKING:
     from app.certificates.wording import PublicStatus
-    from app.trust.bundle import BundleKey, OpenedBundle, TrustBundle
+    from app.trust.bundle import OpenedBundle
     from app.trust.claims import Claims
 
 
@@ -94,7 +94,7 @@ def trust_anchors(given: list[str] | None) -> list[str]:
     return kids
 
 
-def anchored(text: str, anchors: list[str], held: TrustBundle | None = None) -> OpenedBundle:
+def anchored(text: str, anchors: list[str], held: OpenedBundle | None = None) -> OpenedBundle:
     """Open a bundle trusting the anchor key ids (each checked as the thumbprint of the key the bundle
     lists under it) and the held bundle's own signing key; BundleRefused says why not."""
     from app.trust.bundle import BundleRefused, open_bundle, unpack_bundle
@@ -102,13 +102,13 @@ def anchored(text: str, anchors: list[str], held: TrustBundle | None = None) -> 
 
     listed = unpack_bundle(text).bundle
     trusted: dict[str, str] = {}
-    for source in (listed, held):
+    for source in (listed, held.bundle if held is not None else None):
         for key in source.keys if source is not None else ():
             jwk = {"kty": "OKP", "crv": "Ed25519", "x": key.x}
             if key.kid in anchors and kid_of_jwk(jwk) == key.kid:
                 trusted[key.kid] = key.x
     if held is not None:
-        pinned = held_signer(held)
+        pinned = held.bundle.key(held.kid)  # the key that signed the bundle held: pinned
         if pinned is not None:
             trusted[pinned.kid] = pinned.x
     if not trusted:
@@ -117,12 +117,7 @@ def anchored(text: str, anchors: list[str], held: TrustBundle | None = None) -> 
             "no trust anchor: give --anchor KID (the key id this service publishes) or set "
             "TRIKECERT_TRUST_ANCHORS",
         )
-    return open_bundle(text, trusted=trusted, held=held)
-
-
-def held_signer(held: TrustBundle) -> BundleKey | None:
-    """The key that signed a held bundle (its one active key)."""
-    return next((key for key in held.keys if key.status == "active"), None)
+    return open_bundle(text, trusted=trusted, held=held.bundle if held is not None else None)
 
 
 def verify_offline(args: argparse.Namespace) -> int:
@@ -192,7 +187,7 @@ def cmd_trust_bundle(args: argparse.Namespace) -> int:
     held = None
     if out.exists():
         try:
-            held = unpack_bundle(out.read_text(encoding="ascii")).bundle
+            held = unpack_bundle(out.read_text(encoding="ascii"))
         except (OSError, UnicodeDecodeError, BundleRefused) as error:
             print(
                 f"trikecert: the held bundle {out} cannot be read ({error}); it is replaced", file=sys.stderr

@@ -17,13 +17,13 @@ from __future__ import annotations
 import gzip
 import hashlib
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime
 
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session, aliased
 
-from app.certificates.models import Certificate, CertificateRevocation, CertificateSequence
+from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, CertificateSequence
 from app.config import Settings
 from app.db import utcnow
 from app.trust.bundle import (
@@ -38,7 +38,7 @@ from app.trust.bundle import (
     yyyymmdd,
 )
 from app.trust.keys import current_signer, key_event_count, trusted_key_rows
-from app.trust.models import SigningKey
+from app.trust.models import KeyEndorsement, KeyWithdrawal, SigningKey
 from app.trust.signing import issuer_claim
 from app.trust.validity import local_date
 
@@ -57,6 +57,7 @@ class Built:
     state: tuple[int, str]
     floor: int | None
     made_at: int
+    marker: tuple[object, ...] = ()
 
 
 def _count(session: Session, query: object) -> int:
@@ -70,6 +71,23 @@ def event_count(session: Session) -> int:
         session, select(func.count()).select_from(Certificate).where(Certificate.supersedes_id.is_not(None))
     )
     return revocations + supersessions + key_event_count(session)
+
+
+def _marker(session: Session) -> tuple[object, ...]:
+    """What changes whenever the bundle may have, in one statement of index look-ups: the newest
+    certificate audit entry (every issue, reissue, supersession and revocation writes one, which the
+    records' triggers enforce) and the small key tables."""
+    row = session.execute(
+        select(
+            select(func.max(CertificateAudit.id)).scalar_subquery(),
+            select(func.count()).select_from(SigningKey).scalar_subquery(),
+            select(func.count(SigningKey.retired_at)).scalar_subquery(),
+            select(func.max(SigningKey.created_at)).scalar_subquery(),
+            select(func.count()).select_from(KeyEndorsement).scalar_subquery(),
+            select(func.count()).select_from(KeyWithdrawal).scalar_subquery(),
+        )
+    ).one()
+    return tuple(row)
 
 
 def _state(session: Session) -> tuple[int, str]:
@@ -195,18 +213,24 @@ _lock = threading.Lock()
 
 
 def served_bundle(session: Session, settings: Settings) -> Built:
-    """The bundle for this database: the one kept in memory while nothing it lists changed, else a new one."""
+    """The bundle for this database: the one kept in memory while nothing it lists changed, else a new
+    one. A request costs one statement while no certificate or key event happened; after one (an
+    issue, say) the exact state is counted, and the kept bundle stays when it did not change."""
     now = utcnow()
+    marker = _marker(session)
     held = _cache.get(settings.database_url)
-    if (
-        held is not None
-        and held.made_at == _hour(now)
-        and held.state == _state(session)
-        and (held.floor is None or held.floor == _floor(session, now))
-    ):
-        return held
-    with _lock:
-        built = build_bundle(session, settings, now)
+    if held is not None and held.made_at == _hour(now):
+        if held.marker == marker:
+            return held
+        if held.state == _state(session) and (held.floor is None or held.floor == _floor(session, now)):
+            held = replace(held, marker=marker)
+            _cache[settings.database_url] = held
+            return held
+    with _lock:  # one build at a time; those who waited take the bundle it made
+        held = _cache.get(settings.database_url)
+        if held is not None and held.made_at == _hour(now) and held.marker == marker:
+            return held
+        built = replace(build_bundle(session, settings, now), marker=marker)
         _cache[settings.database_url] = built
         return built
 

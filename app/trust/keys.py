@@ -397,9 +397,38 @@ def cose_key(jwk: dict[str, Any], kid: str) -> str:
     return base64.urlsafe_b64encode(cbor2.dumps(key)).rstrip(b"=").decode()
 
 
+_published: dict[tuple[object, ...], dict[str, Any]] = {}
+
+
+def _key_marker(session: Session) -> tuple[object, ...]:
+    """What changes with every key event, in one statement over the small key tables."""
+    row = session.execute(
+        select(
+            select(func.count()).select_from(SigningKey).scalar_subquery(),
+            select(func.count(SigningKey.retired_at)).scalar_subquery(),
+            select(func.max(SigningKey.created_at)).scalar_subquery(),
+            select(func.count()).select_from(KeyEndorsement).scalar_subquery(),
+            select(func.count()).select_from(KeyWithdrawal).scalar_subquery(),
+        )
+    ).one()
+    return tuple(row)
+
+
 def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
     """Every key this service vouches for (those that chain to the key its store holds), newest first,
-    as a JWKS with the issuer's name and each COSE_Key; a withdrawn key is listed with its status."""
+    as a JWKS with the issuer's name and each COSE_Key; a withdrawn key is listed with its status.
+    Kept per process while no key event happened (every /verify asks for it): one statement then."""
+    place = (settings.database_url, settings.issuing_authority, store_kid(settings))
+    marker = _key_marker(session)
+    kept = _published.get(place)
+    if kept is not None and kept["marker"] == marker:
+        return dict(kept["keys"])
+    keys = _published_keys(session, settings)
+    _published[place] = {"marker": marker, "keys": keys}
+    return dict(keys)
+
+
+def _published_keys(session: Session, settings: Settings) -> dict[str, Any]:
     trusted = trusted_key_rows(session, settings)
     return {
         "issuer": settings.issuing_authority,

@@ -116,6 +116,7 @@ def test_the_qr_address_and_the_published_keys_count_too(
     assert refused.status_code == 429
     assert refused.json()["errors"][0]["field"] == "client"
     assert elsewhere.get("/.well-known/trikecert-keys.json").status_code == 200
+    assert client.get("/.well-known/trikecert-trust").status_code == 429  # the trust bundle too
     assert client.get("/healthz").status_code == 200, "other doors are not counted"
 
 

@@ -203,3 +203,21 @@ def test_a_withdrawn_key_counts_for_nothing_online_and_cannot_confirm_offline(
     assert main(["withdraw-signing-key", old["key_id"], "--reason", "again"]) == 2
     saved = json.loads(api.get(KEYS).text)
     assert [key["status"] for key in saved["keys"]] == ["active", "compromised"]
+
+
+def test_a_police_posts_held_bundle_follows_a_rotation_without_a_new_anchor(
+    api: TestClient, tmp_path: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
+    old = _issue(api, "KTU 417 XA", COMPLIANT, COMPLIANT_READINGS)
+    held, incoming = tmp_path / "held.jws", tmp_path / "incoming.jws"
+    incoming.write_text(api.get(BUNDLE).text)
+    assert main(["trust-bundle", "--from", str(incoming), "--out", str(held), "--anchor", old["key_id"]]) == 0
+    assert main(["rotate-signing-key"]) == 0
+    new = _issue(api, "KTU 418 XA", COMPLIANT, COMPLIANT_READINGS)
+    incoming.write_text(api.get(BUNDLE).text)
+    capsys.readouterr()
+    # No anchor now: the held bundle's key is pinned, and it handed over to the new key.
+    assert main(["trust-bundle", "--from", str(incoming), "--out", str(held)]) == 0
+    assert unpack_bundle(held.read_text()).kid == new["key_id"]
+    code = main(["verify", "--offline", "--bundle", str(held), "--anchor", old["key_id"], new["qr_url"]])
+    assert code == 0, capsys.readouterr().out
