@@ -16,6 +16,7 @@ from app.api.errors import UNAVAILABLE_RESPONSE
 from app.audit_log.api import router as audit_api_router
 from app.audit_log.views import router as audit_router
 from app.certificates.api import router as certificates_api_router
+from app.checker.views import router as checker_router
 from app.dynamics.api import router as dynamics_api_router
 from app.dynamics.lookups import find_vehicles_with, get_inspections_with
 from app.dynamics.views import router as vehicle_dynamics_router
@@ -68,6 +69,7 @@ page_routers: tuple[APIRouter, ...] = (
     statistics_router,
     type_assessments_router,
     reminders_router,
+    checker_router,  # the offline checker at /check/: the one page with scripts
 )
 
 # The SMS and USSD gateway's callbacks (app/gateway/): plain text in and out, outside the station API.

@@ -1,6 +1,8 @@
 """ASGI middleware: every answer carries nosniff (and HSTS over https) and no Server header; pages
 are also never cached (the back button after sign-out shows nothing) and are locked down by a strict
-Content-Security-Policy, which API and documentation answers do without."""
+Content-Security-Policy, which API and documentation answers do without. No page runs a script
+(`script-src 'none'`) except the offline checker at /check/, which sets its own policy
+(app/checker/views.py)."""
 
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ PAGE_HEADERS = {
     "X-Frame-Options": "DENY",
     "Referrer-Policy": "same-origin",
     "Content-Security-Policy": (
-        "default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'self'; "
+        "default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'none'; "
         "object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'"
     ),
 }
