@@ -14,7 +14,7 @@ from typing import Any
 from app.dynamics.protocols import EstimatedInspection, WeighedCase, WeighedRecord, Weighing
 from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 from app.errors import InvalidInput
-from app.stability import Seat, StabilityError
+from app.stability import Seat, StabilityError, layout_named
 from app.stability.dynamics import (
     BOUNDS,
     AxleLift,
@@ -133,6 +133,11 @@ def dynamics_input(
     )
 
 
+def _axle(weighing: Weighing, wheels: Sequence[str]) -> Decimal:
+    """An axle's load: its wheels' stored means added up (the delta's front axle: its one wheel)."""
+    return sum((getattr(weighing, wheel) for wheel in wheels), Decimal(0))
+
+
 def _mean(values: Sequence[str]) -> Fraction:
     return sum((Fraction(Decimal(v)) for v in values), Fraction(0)) / len(values)
 
@@ -145,11 +150,12 @@ def record_input(record: WeighedRecord, figures: DynamicsFigures) -> DynamicsInp
 def _weighing_input(
     weighing: Weighing, cases: Sequence[WeighedCase], figures: DynamicsFigures
 ) -> DynamicsInput:
-    front = weighing.front_kg
+    layout = layout_named(weighing.layout)
+    front = _axle(weighing, layout.front_wheels)
     weighed = (
         weighing.overall_kg
         if weighing.overall_kg is not None
-        else front + weighing.left_rear_kg + weighing.right_rear_kg
+        else front + _axle(weighing, layout.rear_wheels)
     )
     return dynamics_input(
         wheelbase_m=weighing.wheelbase_m,

@@ -58,7 +58,7 @@ def check_readings(
             raise StabilityError(
                 f"{prefix}.{wheel}",
                 "not_in_layout",
-                f"{prefix}.{wheel} is not a reading of a {layout.name} vehicle ({layout.description}): "
+                f"{prefix}.{wheel}: not a reading of a {layout.name} vehicle ({layout.description}); "
                 f"give {', '.join(layout.wheels)}",
             )
     for wheel in (*layout.wheels, OVERALL):

@@ -36,6 +36,7 @@ _env.filters.update(
     unbroken=formatting.unbroken,
     plates_kept=formatting.plates_kept,
     or_not_recorded=formatting.or_not_recorded,
+    layout_title=formatting.layout_title,
 )
 _env.globals.update(
     service_name=SERVICE_NAME,

@@ -210,14 +210,14 @@ def test_a_measured_case_is_read_with_the_layout_s_wheels() -> None:
                 front_kg=kg("100"), left_front_kg=kg("186"), right_front_kg=kg("182"), rear_kg=kg("112")
             ),
             "readings.front_kg",
-            "readings.front_kg is not a reading of a tadpole vehicle (two front wheels and one rear wheel): "
+            "readings.front_kg: not a reading of a tadpole vehicle (two front wheels and one rear wheel); "
             "give left_front_kg, right_front_kg, rear_kg",
         ),
         (
             DELTA,
             WheelReadings(kg("108"), kg("115"), kg("135"), rear_kg=kg("250")),
             "readings.rear_kg",
-            "readings.rear_kg is not a reading of a delta vehicle",
+            "readings.rear_kg: not a reading of a delta vehicle",
         ),
         (
             QUADRICYCLE,
