@@ -25,6 +25,7 @@ from app.inspections.forms import (
 )
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionFilter, list_inspections, record_inspection
+from app.stability import layout_named
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
@@ -155,7 +156,7 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
             [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
         ),
         "occupancy": occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
-        "chart": lsf_chart(points),
+        "chart": lsf_chart(points, limit=layout_named(inspection.layout).limit),
     }
 
 

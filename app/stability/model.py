@@ -8,7 +8,7 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Literal
 
-from app.stability.layout import DELTA, Layout
+from app.stability.layout import DELTA, LAYOUTS, Layout
 
 # The study's standard for its delta keke: the vehicle understeers when LSF < 2/3. Other layouts have
 # their own limit (`Layout.limit`, reference section 9).
@@ -227,6 +227,14 @@ def rules_version(layout: Layout) -> str:
 
 # Stored with every inspection, so a later change of the rules never rewrites a past result.
 RULES_VERSION = rules_version(DELTA)
+
+
+def layout_of_rules(version: str) -> Layout:
+    """The layout whose limit a rules version names (a type's version starts with one); else the delta."""
+    for layout in LAYOUTS.values():
+        if version.startswith(f"lsf<{layout.limit_text}:"):
+            return layout
+    return DELTA
 
 
 def case_label(occupants: int) -> str:
