@@ -426,7 +426,8 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
         height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
         assert height is not None
     remedies = document.facts.remedies_sentence if document.kind == "refusal" else None
-    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, "LSF per loading case against the limit 2/3", 11, bold=True)
+    words = f"LSF per loading case against the limit {document.facts.axles.limit_text}"
+    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, words, 11, bold=True)
     # A refusal's remedies stand beside a narrower chart, under the rules, so the page stays one page.
     narrow = remedies and len(document.facts.cases) <= NARROW_CHART_CASES
     width = REMEDIES_CHART_W if narrow else 100

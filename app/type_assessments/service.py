@@ -16,7 +16,8 @@ from app.inspections.models import Inspection
 from app.inspections.record import quantize
 from app.inspections.service import refusal
 from app.stability import RULES_VERSION, AssessmentInput, LoadItem, MeasuredCase, Rules, Seat, StabilityError
-from app.stability.model import WHEELS, WheelReadings
+from app.stability.layout import ALL_WHEELS, OVERALL, layout_named
+from app.stability.model import WheelReadings
 from app.stability.type_assessment import Member, TypeAssessment, assess_type
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
 from app.vehicles.models import Vehicle
@@ -124,7 +125,7 @@ def member(inspection: Inspection, rules: Rules) -> Member:
 
     def readings(case: int) -> WheelReadings:
         wheels = values.get(case, {})
-        return WheelReadings(*(tuple(wheels.get(wheel, ())) for wheel in WHEELS))
+        return WheelReadings(**{wheel: tuple(wheels.get(wheel, ())) for wheel in (*ALL_WHEELS, OVERALL)})
 
     config = inspection.occupant_config
     data = AssessmentInput(
@@ -136,6 +137,7 @@ def member(inspection: Inspection, rules: Rules) -> Member:
         ),
         measured_cases=tuple(MeasuredCase(case, readings(case)) for case in sorted(values) if case > 0),
         occupant_mass_kg=inspection.occupant_mass_kg,
+        layout=layout_named(inspection.layout),
     )
     own_rules = replace(
         rules, sum_tolerance=inspection.sum_tolerance, occupant_mass_kg=inspection.occupant_mass_kg
