@@ -52,6 +52,17 @@ class CaseRemedies:
     tyre_ratio: Fraction  # R / (2 (W - R)): the rear tyres must exceed the front's stiffness by this
     lsf_after_ballast: Fraction | None  # with the advised ballast fitted (None: no ballast advised)
     lsf_after_seat_shift: Fraction | None  # with the seats moved by the advised distance
+    layout: Layout = DELTA  # whose limit decides the verdicts after a remedy
+
+    @property
+    def complies_after_ballast(self) -> bool | None:
+        """The verdict with the advised ballast fitted (None: none advised), under the layout's limit."""
+        return None if self.lsf_after_ballast is None else complies(self.lsf_after_ballast, self.layout)
+
+    @property
+    def complies_after_seat_shift(self) -> bool | None:
+        """The verdict with the seats moved (None: not advised), under the layout's limit."""
+        return None if self.lsf_after_seat_shift is None else complies(self.lsf_after_seat_shift, self.layout)
 
     @property
     def fixable_by_ballast(self) -> bool:
@@ -194,6 +205,7 @@ def size_remedies(
             tyre_ratio=tyre_ratio(case),
             lsf_after_ballast=None if fit is None else lsf_with_ballast(case, fit, x_b, wheelbase),
             lsf_after_seat_shift=None if moved is None else lsf_with_seat_shift(case, moved, mass, wheelbase),
+            layout=case.layout,
         )
         for case in cases
     )

@@ -263,14 +263,21 @@ def lsf_chart(
 
 
 def before_after_chart(
-    before: Sequence[ChartPoint], after: Sequence[ChartPoint], *, remedy: str, chart_id: str = "remedy-chart"
+    before: Sequence[ChartPoint],
+    after: Sequence[ChartPoint],
+    *,
+    remedy: str,
+    chart_id: str = "remedy-chart",
+    limit: Fraction = LSF_LIMIT,
 ) -> Markup:
     """Each case's LSF today (hollow, dashed) and after `remedy` (marked C or NC), on one scale."""
-    plot = plot_for([p.lsf for p in [*before, *after]], len(before))
-    title = f"LSF per loading case today and {remedy}, against the 2/3 limit"
+    plot = plot_for([p.lsf for p in [*before, *after]], len(before), limit)
+    title = (
+        f"LSF per loading case today and {remedy}, against the {limit.numerator}/{limit.denominator} limit"
+    )
     after_words = f"{remedy[:1].upper()}{remedy[1:]}: {case_list(after)}"
-    description = f"{INTRODUCTION} Today: {case_list(before)}. {after_words}."
-    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description)
+    description = f"{introduction(limit)} Today: {case_list(before)}. {after_words}."
+    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description, limit=limit)
     parts += series(plot, before, shift=-0.08, muted=True, name="before")
     parts += series(plot, after, shift=0.08, name="after")
     parts += [case_axis_label(plot, i, point.short_label) for i, point in enumerate(before)]
