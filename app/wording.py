@@ -10,7 +10,7 @@ from decimal import Decimal
 from typing import Literal
 
 from app.stability.layout import LAYOUTS, WHEEL_WORDS
-from app.stability.model import case_label
+from app.stability.model import case_label, layout_of_rules
 from app.stability.remedies import Advice
 
 DocumentKind = Literal["compliant", "refusal"]
@@ -235,6 +235,11 @@ _RULES = {
     "lsf<1/3:cumulative-cases:v1": "LSF below 1/3 in every loading case (tadpole rules v1)",
     "lsf<1/2:cumulative-cases:v1": "LSF below 1/2 in every loading case (quadricycle rules v1)",
 }
+
+
+def layout_of(rules_version: str) -> str:
+    """The layout a stored rules version was decided under: 'tadpole' for 'lsf<1/3:...'."""
+    return layout_of_rules(rules_version).name
 
 
 def wheel_rows(layout: str = "delta") -> list[tuple[str, str]]:

@@ -15,7 +15,17 @@ from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection
 from app.inspections.record import quantize
 from app.inspections.service import refusal
-from app.stability import RULES_VERSION, AssessmentInput, LoadItem, MeasuredCase, Rules, Seat, StabilityError
+from app.stability import (
+    RULES_VERSION,
+    AssessmentInput,
+    Layout,
+    LoadItem,
+    MeasuredCase,
+    Rules,
+    Seat,
+    StabilityError,
+    rules_version,
+)
 from app.stability.layout import ALL_WHEELS, OVERALL, layout_named
 from app.stability.model import WheelReadings
 from app.stability.type_assessment import Member, TypeAssessment, assess_type
@@ -23,6 +33,13 @@ from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspec
 from app.vehicles.models import Vehicle
 
 TYPE_RULES_VERSION = f"{RULES_VERSION};type:mean-readings,t95-upper:v1"
+
+
+def type_rules_version(layout: Layout) -> str:
+    """A type assessment's rules: its layout's limit, then the type's method (the delta's as it was)."""
+    return f"{rules_version(layout)};type:mean-readings,t95-upper:v1"
+
+
 CONFIDENCE = Decimal("0.95")
 MAX_VEHICLES = 500  # beyond this, choose the inspections (a bound on one request's work)
 
@@ -216,7 +233,7 @@ def _record(
         make=inspections[0].vehicle.make,
         model=inspections[0].vehicle.model,
         model_year=request.model_year,
-        rules_version=TYPE_RULES_VERSION,
+        rules_version=type_rules_version(table.layout),
         occupant_mass_kg=table.occupant_mass_kg,
         wheelbase_m=first.wheelbase_m,
         occupant_config={

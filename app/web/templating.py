@@ -13,7 +13,15 @@ from starlette.templating import Jinja2Templates
 
 from app.config import get_settings
 from app.web import formatting
-from app.wording import case_name, chart_caption, rear_weight_heading, variance_note, verdict_mark, wheel_rows
+from app.wording import (
+    case_name,
+    chart_caption,
+    layout_of,
+    rear_weight_heading,
+    variance_note,
+    verdict_mark,
+    wheel_rows,
+)
 
 TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
 SERVICE_NAME = "Keke stability certification"
@@ -47,6 +55,7 @@ _env.globals.update(
     variance_note=variance_note,
     chart_caption=chart_caption,
     wheel_rows=wheel_rows,
+    layout_of=layout_of,
     not_recorded=formatting.NOT_RECORDED,
 )
 templates = Jinja2Templates(env=_env)
