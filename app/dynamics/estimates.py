@@ -14,7 +14,7 @@ from typing import Any
 from app.dynamics.protocols import EstimatedInspection, WeighedCase, WeighedRecord, Weighing
 from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 from app.errors import InvalidInput
-from app.stability import Seat, StabilityError, layout_named
+from app.stability import DELTA, Layout, Seat, StabilityError, layout_named
 from app.stability.dynamics import (
     BOUNDS,
     AxleLift,
@@ -112,6 +112,7 @@ def dynamics_input(
     figures: DynamicsFigures,
     stored: dict[str, Any] | None,
     has_load_items: bool,
+    layout: Layout = DELTA,
 ) -> DynamicsInput:
     """The pure core's input from an inspection's stored figures (the same at submission and later)."""
     stored = stored or {}
@@ -130,6 +131,8 @@ def dynamics_input(
         cg_height_m=None if given is None else float(given),
         has_load_items=has_load_items,
         weighed_total_kg=float(weighed_kg),
+        n_front=layout.n_front,
+        n_rear=layout.n_rear,
     )
 
 
@@ -165,6 +168,7 @@ def _weighing_input(
         figures=figures,
         stored=weighing.dynamics_input,
         has_load_items=bool(weighing.occupant_config.get("load_items")),
+        layout=layout,
     )
 
 

@@ -27,6 +27,7 @@ from app.stability import (
     layout_named,
     rules_version,
 )
+from app.stability.dynamics import critical_speed_ms, rollover_threshold_about_axis, understeer_margin
 from app.stability.remedies import advice_of, size_remedies
 
 
@@ -270,3 +271,91 @@ def test_an_unknown_layout_is_refused_naming_the_choices() -> None:
         == "layout: 'sidecar' is not an axle layout; choose one of delta, tadpole, quadricycle"
     )
     assert layout_named("tadpole") is TADPOLE
+
+
+# ---- beyond the static test (reference section 9): each formula against one written here ----------
+
+C = 8000.0  # N/rad per tyre, the reference's illustrative figure
+
+
+@pytest.mark.parametrize(
+    ("layout", "lsf"), [(DELTA, 0.71), (TADPOLE, 0.38), (QUADRICYCLE, 0.55), (TADPOLE, 0.25)]
+)
+def test_the_critical_speed_follows_the_layout_s_tyre_counts(layout: Layout, lsf: float) -> None:
+    wb, mass = 1.9, 768.0
+    l1, l2 = wb * lsf, wb * (1 - lsf)
+    by_hand = layout.n_rear * l2 * C - layout.n_front * l1 * C
+    margin = understeer_margin(
+        wheelbase_m=wb,
+        lsf=lsf,
+        front_n_per_rad=C,
+        rear_n_per_rad=C,
+        n_front=layout.n_front,
+        n_rear=layout.n_rear,
+    )
+    assert margin == pytest.approx(by_hand)
+    # Identical tyres: S = C WB (n_r - (n_f + n_r) LSF), negative exactly above the static limit.
+    assert (margin < 0) == (lsf > float(layout.limit))
+    speed = critical_speed_ms(
+        wheelbase_m=wb,
+        mass_kg=mass,
+        margin=margin,
+        front_n_per_rad=C,
+        rear_n_per_rad=C,
+        n_front=layout.n_front,
+        n_rear=layout.n_rear,
+    )
+    if margin >= 0:
+        assert speed is None
+    else:
+        expected = (
+            wb
+            * (
+                layout.n_front
+                * C
+                * layout.n_rear
+                * C
+                / (mass * (layout.n_front * l1 * C - layout.n_rear * l2 * C))
+            )
+            ** 0.5
+        )
+        assert speed == pytest.approx(expected)
+
+
+def test_the_delta_s_critical_speed_is_the_study_s_to_the_last_bit() -> None:
+    margin = understeer_margin(wheelbase_m=2.0, lsf=0.7103, front_n_per_rad=C, rear_n_per_rad=C)
+    assert margin == 2 * (2.0 - 2.0 * 0.7103) * C - 2.0 * 0.7103 * C
+    speed = critical_speed_ms(
+        wheelbase_m=2.0, mass_kg=647.0, margin=margin, front_n_per_rad=C, rear_n_per_rad=C
+    )
+    assert speed == 2.0 * (2 * C * C / (647.0 * -margin)) ** 0.5
+
+
+@pytest.mark.parametrize(
+    ("front_track", "rear_track", "lsf", "expected"),
+    [
+        (0.0, 1.15, 0.6964, 1.15 / 2 * 0.6964),  # delta: (T_r / 2) LSF
+        (1.20, 0.0, 0.2333, 1.20 / 2 * (1 - 0.2333)),  # tadpole: (T_f / 2) (1 - LSF)
+        (1.30, 1.30, 0.487, 1.30 / 2),  # quadricycle, equal tracks: T / 2
+        (1.20, 1.40, 0.5, 0.65),  # unequal tracks: the axis halfway
+    ],
+)
+def test_the_rollover_axis_per_layout(
+    front_track: float, rear_track: float, lsf: float, expected: float
+) -> None:
+    h = 0.55
+    got = rollover_threshold_about_axis(
+        front_track_m=front_track, rear_track_m=rear_track, cg_height_m=h, lsf=lsf
+    )
+    assert got == pytest.approx(expected / h)
+
+
+def test_the_tadpole_s_rollover_threshold_falls_as_load_moves_rearward_the_delta_s_rises() -> None:
+    def tadpole(lsf: float) -> float:
+        return rollover_threshold_about_axis(front_track_m=1.2, rear_track_m=0.0, cg_height_m=0.55, lsf=lsf)
+
+    def delta(lsf: float) -> float:
+        return rollover_threshold_about_axis(front_track_m=0.0, rear_track_m=1.15, cg_height_m=0.55, lsf=lsf)
+
+    assert tadpole(0.30) < tadpole(0.25)
+    assert delta(0.70) > delta(0.65)
