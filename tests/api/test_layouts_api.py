@@ -14,7 +14,7 @@ from fastapi.testclient import TestClient
 from pypdf import PdfReader
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
-from web.webtools import OFFICER_EMAIL, PASSWORD, sign_in
+from web.webtools import OFFICER_EMAIL, PASSWORD, post_form, sign_in
 
 from app.accounts.service import create_user
 from app.inspections.models import Inspection
@@ -218,3 +218,26 @@ def test_the_tadpole_s_refusal_and_page_show_its_limit_and_its_rear_wheel(
     assert "Tadpole (two front wheels and one rear wheel)" in page
     for figure in ("0.233", "0.251", "0.304", "0.346", "0.380", "+0.100", "+0.082", "+0.029"):
         assert figure in page
+
+
+def test_the_registration_form_refuses_an_unknown_layout_and_stores_nothing(
+    client: TestClient, session: Session
+) -> None:
+    create_user(session, email=OFFICER_EMAIL, password=PASSWORD, role="officer")
+    assert sign_in(client, OFFICER_EMAIL).status_code == 303
+    fields = {
+        "registration_number": "SDC 1",
+        "layout": "sidecar",
+        "make": "Example",
+        "model": "Side",
+        "wheelbase_m": "1.9",
+        "driver_x_m": "0.7",
+    }
+    before = _counts(session)
+    refused = post_form(client, "/vehicles/new", "/vehicles/new", fields)
+    assert refused.status_code == 422
+    assert "Choose the axle layout: delta, tadpole, quadricycle" in refused.text
+    assert _counts(session) == before
+    registered_page = post_form(client, "/vehicles/new", "/vehicles/new", fields | {"layout": "quadricycle"})
+    assert registered_page.status_code == 303
+    assert session.scalar(select(Vehicle.layout).where(Vehicle.registration_key == "SDC1")) == "quadricycle"
