@@ -12,7 +12,8 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 from pypdf import PdfReader
-from sqlalchemy import func, select
+from sqlalchemy import Engine, func, select, update
+from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 from web.webtools import OFFICER_EMAIL, PASSWORD, post_form, sign_in
 
@@ -241,3 +242,10 @@ def test_the_registration_form_refuses_an_unknown_layout_and_stores_nothing(
     registered_page = post_form(client, "/vehicles/new", "/vehicles/new", fields | {"layout": "quadricycle"})
     assert registered_page.status_code == 303
     assert session.scalar(select(Vehicle.layout).where(Vehicle.registration_key == "SDC1")) == "quadricycle"
+
+
+def test_the_database_keeps_a_vehicle_s_layout_as_registered(api: TestClient, owner_engine: Engine) -> None:
+    registered(api, TADPOLE)
+    # Even the owner's role (the app's has no UPDATE on vehicles at all on PostgreSQL) meets the trigger.
+    with pytest.raises(DBAPIError, match="layout"), owner_engine.begin() as connection:
+        connection.execute(update(Vehicle).values(layout="delta"))
