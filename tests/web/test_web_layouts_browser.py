@@ -117,6 +117,8 @@ def test_an_officer_registers_weighs_and_certifies_a_tadpole_and_a_quadricycle(
     assert "Weight on the rear wheel (kg)" in text
     assert "1/3 (0.333)" in text
     assert "2/3" not in text
+    expect(page.locator("#table-4")).to_contain_text("Weight on the rear wheel (kg)")
+    expect(page.locator("#table-4")).to_contain_text("1/3 (0.333)")
     shoot(page, "tadpole-refusal")
 
     register(
@@ -143,4 +145,5 @@ def test_an_officer_registers_weighs_and_certifies_a_tadpole_and_a_quadricycle(
     assert "1/2 (0.500)" in text
     assert "Left front wheel: 151" in text
     assert "Right rear wheel: 143" in text
+    expect(page.locator("#table-4")).to_contain_text("1/2 (0.500)")
     shoot(page, "quadricycle-certificate")
