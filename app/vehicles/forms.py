@@ -45,6 +45,8 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
     """Parse the posted form; blank passenger rows are ignored."""
     errors = FormErrors()
     values = {name: text(form, name, errors, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    # The layout is a radio group: its message stands beside the group, whose first button is its id.
+    errors.messages = {("layout-delta" if k == "layout" else k): v for k, v in errors.messages.items()}
     result = VehicleForm(values=values, errors=errors)
     if not values["registration_number"]:
         errors.add("registration_number", "Enter the registration number, like BDG 252 QH")
