@@ -81,7 +81,7 @@ def submit_inspection(
 
         claim = None
         if idempotency_key is not None:
-            payload = body.model_dump(mode="json")
+            payload = _payload(body)
             claim = claim_of(idempotency_key, station_id=station.id, operation=OPERATION, payload=payload)
             if on_file.stored is not None:
                 stored = unless_expired(connection, claim, on_file.stored, retention=retention())
@@ -128,6 +128,21 @@ def submit_inspection(
         if claim is not None:
             maybe_prune(retention=retention())
         return created(answer(replace(record, id=inspection_id)))
+
+
+# The wheels added with the other layouts: left out of a body's payload when not sent, so a delta's
+# Idempotency-Key stored before they existed still matches the same body sent again.
+_LAYOUT_WHEELS = ("left_front_kg", "right_front_kg", "rear_kg")
+
+
+def _payload(body: InspectionIn) -> dict[str, Any]:
+    """The body as its Idempotency-Key remembers it."""
+    payload: dict[str, Any] = body.model_dump(mode="json")
+    for readings in [payload["readings"], *(case["readings"] for case in payload["measured_cases"])]:
+        for wheel in _LAYOUT_WHEELS:
+            if readings.get(wheel) is None:
+                readings.pop(wheel, None)
+    return payload
 
 
 _WHEEL_FIELD = re.compile(r"^(measured_cases\[\d+\]\.)?readings\.\w+_kg$")
