@@ -219,6 +219,9 @@ def test_the_tadpole_s_refusal_and_page_show_its_limit_and_its_rear_wheel(
     assert "Tadpole (two front wheels and one rear wheel)" in page
     for figure in ("0.233", "0.251", "0.304", "0.346", "0.380", "+0.100", "+0.082", "+0.029"):
         assert figure in page
+    statistics = api.get("/statistics").text
+    assert 'id="per-layout"' in statistics
+    assert "Tadpole (two front wheels and one rear wheel): limit 1/3 (0.333)" in statistics
 
 
 def test_the_registration_form_refuses_an_unknown_layout_and_stores_nothing(
