@@ -9,7 +9,8 @@ from collections.abc import Sequence
 from decimal import Decimal
 from typing import Literal
 
-from app.stability.model import case_label
+from app.stability.layout import LAYOUTS, WHEEL_WORDS
+from app.stability.model import case_label, layout_of_rules
 from app.stability.remedies import Advice
 
 DocumentKind = Literal["compliant", "refusal"]
@@ -245,7 +246,42 @@ def case_name(occupants: int) -> str:
 
 _RULES = {
     "lsf<2/3:cumulative-cases:v1": "LSF below 2/3 in every loading case (rules v1)",
+    "lsf<1/3:cumulative-cases:v1": "LSF below 1/3 in every loading case (tadpole rules v1)",
+    "lsf<1/2:cumulative-cases:v1": "LSF below 1/2 in every loading case (quadricycle rules v1)",
 }
+
+
+def layout_of(rules_version: str) -> str:
+    """The layout a stored rules version was decided under: 'tadpole' for 'lsf<1/3:...'."""
+    return layout_of_rules(rules_version).name
+
+
+def wheel_rows(layout: str = "delta") -> list[tuple[str, str]]:
+    """A layout's wheels, front first, each with its name on a page: ('rear_kg', 'Rear wheel reaction')."""
+    return [(wheel, WHEEL_WORDS[wheel].capitalize()) for wheel in LAYOUTS[layout].wheels]
+
+
+def rear_weight_heading(layout: str = "delta") -> str:
+    """Table 4's column of the rear axle's load: 'Weight on rear wheels (kg)', or '... the rear wheel'."""
+    return "Weight on rear wheels (kg)" if LAYOUTS[layout].n_rear > 1 else "Weight on the rear wheel (kg)"
+
+
+def variance_note(layout: str = "delta") -> str:
+    """What Table 4's variance and verdict mean, with the layout's limit."""
+    limit = LAYOUTS[layout].limit_text
+    return (
+        f"Variance is {limit} minus the LSF: positive is a margin, negative an excess. A case complies (C) "
+        f"only when its LSF is less than {limit}, decided on the exact figures."
+    )
+
+
+def chart_caption(layout: str = "delta") -> str:
+    """The caption under an inspection's chart, with the layout's limit."""
+    return (
+        "Lateral Stability Factor (LSF) of each loading case. Circles marked C are compliant; crosses "
+        f"marked NC are not. The shaded region above the dashed line at {LAYOUTS[layout].limit_text} "
+        "is unstable."
+    )
 
 
 def rules_words(rules_version: str) -> str:

@@ -19,11 +19,16 @@ _REACH = f"{_RULES.seat_reach_m} m"
 _Handler = TypeVar("_Handler", bound=Callable[..., object])
 
 WORDS = {
-    "sum_tolerance": "`readings.overall_kg` (and each measured case's) must agree with the sum of the three "
+    "sum_tolerance": "`readings.overall_kg` (and each measured case's) must agree with the sum of the "
     "wheels within `TRIKECERT_SUM_TOLERANCE` (1 % by default) of the overall weight.",
     "range": "a seat or load position (`x_m`) may lie at most "
     f"{_REACH} behind the rear axle: the body's `wheelbase_m`, else the vehicle's, bounds it; a measured "
     "case's `occupants` is at most the number of seats.",
+    "missing": "the readings (and each measured case's) give every wheel of the vehicle's axle layout: a "
+    "delta's `front_kg`, `left_rear_kg`, `right_rear_kg`; a tadpole's `left_front_kg`, `right_front_kg`, "
+    "`rear_kg`; a quadricycle's `left_front_kg`, `right_front_kg`, `left_rear_kg`, `right_rear_kg`.",
+    "extra_forbidden": "a reading of a wheel the vehicle's axle layout does not have is refused, naming "
+    "the layout.",
     "duplicate": "each occupant count is measured at most once in `measured_cases`.",
     "spread": "repeated readings of one wheel may differ by at most `TRIKECERT_MAX_READING_SPREAD_KG` "
     "(2 kg by default): the scale had not settled.",

@@ -17,15 +17,20 @@ from app.certificates.actors import officer_of, station_shown_as
 from app.dynamics.facts import EstimateFacts, estimate_facts, estimates_from_json
 from app.inspections.models import Inspection
 from app.remedies.service import stored_assessment
-from app.stability import case_label
+from app.stability import Layout, case_label
+from app.stability.model import layout_of_rules
 from app.stability.remedies import Advice, advice_of, size_remedies
 from app.web.formatting import NOT_RECORDED
 from app.wording import occupancy_sentence, remedies_sentence, verdict_sentence
 
+# Every layout's wheels, front first (a delta's print in the order they always did).
 WHEEL_NAMES = {
     "front_kg": "Front wheel",
+    "left_front_kg": "Left front wheel",
+    "right_front_kg": "Right front wheel",
     "left_rear_kg": "Left rear wheel",
     "right_rear_kg": "Right rear wheel",
+    "rear_kg": "Rear wheel",
     "overall_kg": "Overall weight",
 }
 
@@ -102,6 +107,11 @@ class Facts:
     def remedies_sentence(self) -> str | None:
         """What would make the vehicle comply, in the one wording of the pages."""
         return None if self.remedies is None else remedies_sentence(self.remedies)
+
+    @property
+    def axles(self) -> Layout:
+        """The vehicle's axle layout, named by the rules version its verdict was decided under."""
+        return layout_of_rules(self.inspection.rules_version)
 
     @property
     def recorded_by(self) -> str:
@@ -211,12 +221,7 @@ def _plain(value: Any) -> Any:
 
 
 def _readings(inspection: Inspection) -> tuple[ReadingFacts, ...]:
-    means = {
-        "front_kg": inspection.front_kg,
-        "left_rear_kg": inspection.left_rear_kg,
-        "right_rear_kg": inspection.right_rear_kg,
-        "overall_kg": inspection.overall_kg,
-    }
+    means = {wheel: getattr(inspection, wheel) for wheel in WHEEL_NAMES}
     raw: dict[str, list[Decimal]] = {}
     for reading in inspection.readings:
         if reading.case_occupants == 0:

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal
+from fractions import Fraction
 
 import segno
 
@@ -23,12 +24,14 @@ from app.documents.chart import Box, chart_height, draw_chart
 from app.documents.layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
 from app.dynamics.pdf import draw_estimates
 from app.stability import LSF_LIMIT
+from app.stability import Layout as AxleLayout
 from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
 from app.wording import (
     case_name,
     document_headline,
     document_kind,
     document_title,
+    rear_weight_heading,
     rules_words,
     verdict_mark,
 )
@@ -92,7 +95,7 @@ def title(kind: str) -> str:
     return document_title(kind)
 
 
-def places_for(cases: Sequence[CaseFacts]) -> int:
+def places_for(cases: Sequence[CaseFacts], limit_value: Fraction = LSF_LIMIT) -> int:
     """The fewest decimals (3 or more) at which the LSFs and margins printed cannot contradict each other.
 
     At 3 decimals LSF 0.7004 and 0.6996 both print 0.700 while their margins print 0.034 and 0.033,
@@ -101,7 +104,7 @@ def places_for(cases: Sequence[CaseFacts]) -> int:
     limit prints as the limit.
     """
     for places in range(MIN_PLACES, MAX_PLACES + 1):
-        limit = fixed(LSF_LIMIT, places)
+        limit = fixed(limit_value, places)
         margins: dict[str, set[str]] = {}
         lsfs: dict[str, set[str]] = {}
         for case in cases:
@@ -114,9 +117,14 @@ def places_for(cases: Sequence[CaseFacts]) -> int:
     return MAX_PLACES
 
 
-def limit_words(places: int) -> str:
-    """The standard as the study prints it, to the document's decimals: 2/3 (0.667)."""
-    return f"{LSF_LIMIT.numerator}/{LSF_LIMIT.denominator} ({fixed(LSF_LIMIT, places)})"
+def limit_words(places: int, limit: Fraction = LSF_LIMIT) -> str:
+    """The standard as the study prints it, to the document's decimals: 2/3 (0.667), a tadpole's 1/3."""
+    return f"{limit.numerator}/{limit.denominator} ({fixed(limit, places)})"
+
+
+def table_headings(layout: AxleLayout) -> tuple[str, ...]:
+    """Table 4's headings: the rear axle's column says wheel or wheels, as the vehicle has."""
+    return tuple(rear_weight_heading(layout.name) if i == 2 else h for i, h in enumerate(TABLE_HEADINGS))
 
 
 def signed_to(value: Decimal, places: int) -> str:
@@ -125,10 +133,10 @@ def signed_to(value: Decimal, places: int) -> str:
     return text if text.startswith("-") else f"+{text}"
 
 
-def refusal_reason(case: CaseFacts, places: int = MIN_PLACES) -> str:
+def refusal_reason(case: CaseFacts, places: int = MIN_PLACES, limit_value: Fraction = LSF_LIMIT) -> str:
     """Why one loading case fails, and by how much."""
     excess = -case.variance
-    name, lsf, limit = case_name(case.occupants), fixed(case.lsf, places), limit_words(places)
+    name, lsf, limit = case_name(case.occupants), fixed(case.lsf, places), limit_words(places, limit_value)
     if excess == 0:
         return f"{name}: LSF {lsf} equals the limit {limit}; it must be below it."
     return f"{name}: LSF {lsf} is above the limit {limit} by {fixed(excess, places)}."
@@ -154,7 +162,7 @@ def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
     pdf.set_lang("en")
     pdf.add_page()
 
-    places = places_for(facts.cases)
+    places = places_for(facts.cases, facts.axles.limit)
     _headline(pdf, document)
     _header(pdf, document)
     _particulars(pdf, facts)
@@ -325,12 +333,12 @@ def _readings(pdf: Page, facts: Facts) -> None:
 def _reasons(facts: Facts, places: int) -> list[tuple[str, float]]:
     failing = facts.failing_cases
     if len(failing) <= COMPACT_AFTER:
-        return [(f"- {refusal_reason(case, places)}", 8.5) for case in failing]
+        return [(f"- {refusal_reason(case, places, facts.axles.limit)}", 8.5) for case in failing]
     text = "; ".join(
         f"{case_name(c.occupants)}: LSF {fixed(c.lsf, places)}, {fixed(-c.variance, places)} over"
         for c in failing
     )
-    return [(f"Limit {limit_words(places)}. {text}.", 8)]
+    return [(f"Limit {limit_words(places, facts.axles.limit)}. {text}.", 8)]
 
 
 def _reasons_block(pdf: Page, document: CertificateDocument, places: int) -> None:
@@ -349,13 +357,13 @@ def _reasons_block(pdf: Page, document: CertificateDocument, places: int) -> Non
     pdf.set_xy(MARGIN, y + 2)
 
 
-def _row(case: CaseFacts, places: int) -> tuple[str, ...]:
+def _row(case: CaseFacts, places: int, limit: Fraction = LSF_LIMIT) -> tuple[str, ...]:
     return (
         case_name(case.occupants) + (" *" if case.measured else ""),
         load_kg(case.total_kg),
         load_kg(case.rear_kg),
         fixed(case.lsf, places),
-        limit_words(places),
+        limit_words(places, limit),
         signed_to(case.variance, places),
         verdict_mark(case.compliant),
     )
@@ -365,7 +373,8 @@ def _table(pdf: Page, facts: Facts, places: int) -> None:
     # Plain bordered cells: fpdf2's table() lays out every cell as a multi-line box, which cost a
     # third of the page's rendering time for rows that are always one line.
     size = 9.0 if len(facts.cases) <= COMPACT_AFTER else 8.0
-    rows = [_row(case, places) for case in facts.cases]
+    rows = [_row(case, places, facts.axles.limit) for case in facts.cases]
+    headings = table_headings(facts.axles)
     pdf.style(size)
     widest = max(
         pdf.get_string_width(value) / (width - 2 * CELL_PADDING)
@@ -376,9 +385,13 @@ def _table(pdf: Page, facts: Facts, places: int) -> None:
     row_h = line_height(size) + 0.8
     heading_h = max(
         pdf.measure(width - 2 * CELL_PADDING, heading, size, bold=True)
-        for width, heading in zip(COLUMN_WIDTHS, TABLE_HEADINGS, strict=True)
+        for width, heading in zip(COLUMN_WIDTHS, headings, strict=True)
     )
-    note = "C: compliant (LSF below 2/3). NC: not compliant. Variance = 2/3 - LSF. LSF = rear / total weight."
+    limit = facts.axles.limit_text
+    note = (
+        f"C: compliant (LSF below {limit}). NC: not compliant. Variance = {limit} - LSF. "
+        "LSF = rear / total weight."
+    )
     if any(case.measured for case in facts.cases):
         note += " * weighed directly with the occupants or ballast aboard."
     note_h = pdf.measure(CONTENT_W, note, 7.5)
@@ -387,7 +400,7 @@ def _table(pdf: Page, facts: Facts, places: int) -> None:
     x = MARGIN
     pdf.set_fill_color(225, 225, 225)
     pdf.set_draw_color(0, 0, 0)
-    for width, align, heading in zip(COLUMN_WIDTHS, COLUMN_ALIGN, TABLE_HEADINGS, strict=True):
+    for width, align, heading in zip(COLUMN_WIDTHS, COLUMN_ALIGN, headings, strict=True):
         pdf.rect(x, top, width, heading_h + 1.2, style="DF")
         pdf.box(x + CELL_PADDING, top + 0.6, width - 2 * CELL_PADDING, heading, size, bold=True, align=align)
         x += width
@@ -413,11 +426,13 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
         height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
         assert height is not None
     remedies = document.facts.remedies_sentence if document.kind == "refusal" else None
-    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, "LSF per loading case against the limit 2/3", 11, bold=True)
+    words = f"LSF per loading case against the limit {document.facts.axles.limit_text}"
+    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, words, 11, bold=True)
     # A refusal's remedies stand beside a narrower chart, under the rules, so the page stays one page.
     narrow = remedies and len(document.facts.cases) <= NARROW_CHART_CASES
     width = REMEDIES_CHART_W if narrow else 100
-    area = draw_chart(pdf, Box(MARGIN + 12, top + 1, width, height), document.facts.cases)
+    box = Box(MARGIN + 12, top + 1, width, height)
+    area = draw_chart(pdf, box, document.facts.cases, limit=document.facts.axles.limit)
     pdf.region("chart", *area)
     rules = (
         f"Decided exactly under the rule: {rules_words(document.facts.inspection.rules_version)}; "

@@ -11,6 +11,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from decimal import Decimal
+from fractions import Fraction
 from typing import Protocol
 
 from fpdf import FPDF
@@ -52,10 +53,11 @@ class Box:
     h: float
 
 
-def axis_range(values: Sequence[float]) -> tuple[float, float]:
-    """The y axis: 0.5 to 0.8, widened in steps of 0.05 to hold every value with a margin."""
-    low = min([0.5, *[v - 0.02 for v in values]])
-    high = max([0.8, *[v + 0.02 for v in values]])
+def axis_range(values: Sequence[float], limit: Fraction = LSF_LIMIT) -> tuple[float, float]:
+    """The y axis: 0.5 to 0.8 around the delta's 2/3 (0.15 to 0.5 around a tadpole's 1/3), widened
+    in steps of 0.05 to hold every value with a margin."""
+    low = min([float(limit - Fraction(1, 6)), *[v - 0.02 for v in values]])
+    high = max([float(limit + Fraction(2, 15)), *[v + 0.02 for v in values]])
     return math.floor(low / STEP + 1e-9) * STEP, math.ceil(high / STEP - 1e-9) * STEP
 
 
@@ -73,11 +75,15 @@ def chart_height(room: float) -> float | None:
     return height if height >= MIN_H else None
 
 
-def draw_chart(pdf: FPDF, box: Box, cases: Sequence[ChartCase]) -> tuple[float, float, float, float]:
-    """Draw the chart of LSF per loading case below `box.y`; returns the area it covers (x, y, w, h)."""
+def draw_chart(
+    pdf: FPDF, box: Box, cases: Sequence[ChartCase], *, limit: Fraction = LSF_LIMIT
+) -> tuple[float, float, float, float]:
+    """Draw the chart of LSF per loading case below `box.y`, against the layout's `limit` (2/3 for the
+    delta); returns the area it covers (x, y, w, h)."""
     box = Box(box.x, box.y + ABOVE, box.w, box.h)
     values = [float(case.lsf) for case in cases]
-    low, high = axis_range(values)
+    low, high = axis_range(values, limit)
+    limit_text = f"{limit.numerator}/{limit.denominator}"
 
     def y_of(value: float) -> float:
         return box.y + box.h * (high - value) / (high - low)
@@ -85,13 +91,13 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[ChartCase]) -> tuple[float, 
     def x_of(index: int) -> float:
         return box.x + box.w * (index + 0.5) / max(len(cases), 1)
 
-    limit_y = y_of(LIMIT)
+    limit_y = y_of(float(limit))
     pdf.set_fill_color(232, 232, 232)
     pdf.rect(box.x, box.y, box.w, limit_y - box.y, style="F")
     pdf.set_font(fonts.FAMILY, "", 7)
     pdf.text(box.x - 9, box.y - 2.5, "LSF")
     pdf.set_text_color(70, 70, 70)
-    pdf.text(box.x + 2, box.y - 2.5, "Shaded: unstable (LSF at or above 2/3)")
+    pdf.text(box.x + 2, box.y - 2.5, f"Shaded: unstable (LSF at or above {limit_text})")
 
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.3)
@@ -110,7 +116,7 @@ def draw_chart(pdf: FPDF, box: Box, cases: Sequence[ChartCase]) -> tuple[float, 
     pdf.line(box.x, limit_y, box.x + box.w, limit_y)
     pdf.set_dash_pattern()
     pdf.set_font(fonts.FAMILY, "B", 7)
-    pdf.text(box.x + box.w + 4, limit_y + 1, "limit 2/3")
+    pdf.text(box.x + box.w + 4, limit_y + 1, f"limit {limit_text}")
 
     pdf.set_line_width(0.2)
     pdf.set_draw_color(120, 120, 120)

@@ -14,7 +14,7 @@ from typing import Any
 from app.dynamics.protocols import EstimatedInspection, WeighedCase, WeighedRecord, Weighing
 from app.dynamics.service import DynamicsFigures, core_figures, revision_figures
 from app.errors import InvalidInput
-from app.stability import Seat, StabilityError
+from app.stability import DELTA, Layout, Seat, StabilityError, layout_named
 from app.stability.dynamics import (
     BOUNDS,
     AxleLift,
@@ -112,6 +112,7 @@ def dynamics_input(
     figures: DynamicsFigures,
     stored: dict[str, Any] | None,
     has_load_items: bool,
+    layout: Layout = DELTA,
 ) -> DynamicsInput:
     """The pure core's input from an inspection's stored figures (the same at submission and later)."""
     stored = stored or {}
@@ -130,7 +131,14 @@ def dynamics_input(
         cg_height_m=None if given is None else float(given),
         has_load_items=has_load_items,
         weighed_total_kg=float(weighed_kg),
+        n_front=layout.n_front,
+        n_rear=layout.n_rear,
     )
+
+
+def _axle(weighing: Weighing, wheels: Sequence[str]) -> Decimal:
+    """An axle's load: its wheels' stored means added up (the delta's front axle: its one wheel)."""
+    return sum((getattr(weighing, wheel) for wheel in wheels), Decimal(0))
 
 
 def _mean(values: Sequence[str]) -> Fraction:
@@ -145,11 +153,12 @@ def record_input(record: WeighedRecord, figures: DynamicsFigures) -> DynamicsInp
 def _weighing_input(
     weighing: Weighing, cases: Sequence[WeighedCase], figures: DynamicsFigures
 ) -> DynamicsInput:
-    front = weighing.front_kg
+    layout = layout_named(weighing.layout)
+    front = _axle(weighing, layout.front_wheels)
     weighed = (
         weighing.overall_kg
         if weighing.overall_kg is not None
-        else front + weighing.left_rear_kg + weighing.right_rear_kg
+        else front + _axle(weighing, layout.rear_wheels)
     )
     return dynamics_input(
         wheelbase_m=weighing.wheelbase_m,
@@ -159,6 +168,7 @@ def _weighing_input(
         figures=figures,
         stored=weighing.dynamics_input,
         has_load_items=bool(weighing.occupant_config.get("load_items")),
+        layout=layout,
     )
 
 

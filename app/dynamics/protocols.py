@@ -70,16 +70,32 @@ class Weighing(Protocol):
         """The wheelbase used."""
 
     @property
-    def front_kg(self) -> Decimal:
-        """The front wheel's reading, level."""
+    def layout(self) -> str:
+        """The axle layout weighed (delta, tadpole, quadricycle): which of the wheels below it has."""
 
     @property
-    def left_rear_kg(self) -> Decimal:
-        """The left rear wheel's reading."""
+    def front_kg(self) -> Decimal | None:
+        """A delta's front wheel's reading, level."""
 
     @property
-    def right_rear_kg(self) -> Decimal:
-        """The right rear wheel's reading."""
+    def left_front_kg(self) -> Decimal | None:
+        """The left front wheel's reading (a tadpole's or a quadricycle's)."""
+
+    @property
+    def right_front_kg(self) -> Decimal | None:
+        """The right front wheel's reading (a tadpole's or a quadricycle's)."""
+
+    @property
+    def left_rear_kg(self) -> Decimal | None:
+        """The left rear wheel's reading (a delta's or a quadricycle's)."""
+
+    @property
+    def right_rear_kg(self) -> Decimal | None:
+        """The right rear wheel's reading (a delta's or a quadricycle's)."""
+
+    @property
+    def rear_kg(self) -> Decimal | None:
+        """A tadpole's rear wheel's reading."""
 
     @property
     def overall_kg(self) -> Decimal | None:

@@ -48,12 +48,11 @@ def inspection_answer(record: InspectionRecord, estimates: Dynamics) -> Inspecti
             "max_compliant_occupants": record.max_compliant_occupants,
             "vehicle_id": record.vehicle_id,
             "wheelbase_m": float(record.wheelbase_m),
+            "layout": record.layout,
             "readings": {
-                "front_kg": _f(record.front_kg, 3),
-                "left_rear_kg": _f(record.left_rear_kg, 3),
-                "right_rear_kg": _f(record.right_rear_kg, 3),
+                **{wheel: _f(value, 3) for wheel, value in record.wheel_means().items()},
                 "overall_kg": _f(record.overall_kg, 3) if record.overall_kg is not None else None,
-                "rear_kg": _f(record.left_rear_kg + record.right_rear_kg, 3),
+                "rear_kg": _f(record.rear_axle_kg, 3),
                 "total_kg": _f(record.cases[0].total_kg, 3),
             },
             "raw_readings": {wheel: [float(v) for v in values] for wheel, values in raw.items()},
@@ -68,6 +67,7 @@ def inspection_answer(record: InspectionRecord, estimates: Dynamics) -> Inspecti
                 "occupant_mass_kg": float(record.occupant_mass_kg),
                 "sum_tolerance": float(record.sum_tolerance),
                 "rules_version": record.rules_version,
+                "lsf_limit": record.axles.limit_text,
             },
             "cg_from_front_m": _f(record.cg_from_front_m, 4),
             "loading_cases": [

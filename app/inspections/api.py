@@ -69,6 +69,8 @@ def inspection_summary(listed: ListedInspection) -> InspectionSummary:
 )
 @cross_field_rules(
     "sum_tolerance",
+    "missing",
+    "extra_forbidden",
     "range",
     "duplicate",
     "spread",

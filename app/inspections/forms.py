@@ -10,13 +10,56 @@ from starlette.datastructures import FormData
 
 from app.dynamics.forms import LIFT_FIELDS, read_lift
 from app.inspections.service import InspectionRequest
-from app.stability import MeasuredCase, Seat, WheelReadings
+from app.stability import MeasuredCase, Seat, WheelReadings, layout_named
+from app.stability.layout import OVERALL
 from app.stability.validation import WHEEL_WORDS
 from app.vehicles.models import Vehicle
 from app.web.forms import FormErrors, parse_decimal, text
 
 READINGS_PER_WHEEL = 3
-WHEELS = ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
+WHEELS = ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")  # the delta's
+
+
+def wheels_of(vehicle: Vehicle) -> tuple[str, ...]:
+    """The boxes of a vehicle's form: its layout's wheels, front first, then the overall weight."""
+    return (*layout_named(vehicle.layout).wheels, OVERALL)
+
+
+# A wheel's legend and hint on the form, and its short label for a measured case.
+WHEEL_LABELS: dict[str, tuple[str, str, str]] = {
+    "front_kg": (
+        "Front wheel reaction (kg)",
+        "The weighbridge reading under the front wheel alone.",
+        "Front wheel (kg)",
+    ),
+    "left_front_kg": (
+        "Left front wheel reaction (kg)",
+        "The reading under the left front wheel alone.",
+        "Left front (kg)",
+    ),
+    "right_front_kg": (
+        "Right front wheel reaction (kg)",
+        "The reading under the right front wheel alone.",
+        "Right front (kg)",
+    ),
+    "left_rear_kg": (
+        "Left rear wheel reaction (kg)",
+        "The reading under the left rear wheel alone.",
+        "Left rear (kg)",
+    ),
+    "right_rear_kg": (
+        "Right rear wheel reaction (kg)",
+        "The reading under the right rear wheel alone.",
+        "Right rear (kg)",
+    ),
+    "rear_kg": ("Rear wheel reaction (kg)", "The reading under the rear wheel alone.", "Rear wheel (kg)"),
+    "overall_kg": (
+        "Overall weight (kg)",
+        "The whole empty vehicle on the weighbridge. Leave blank if it was not weighed; then the wheels’ "
+        "sum is used. The wheels must add up to within 1 % of it.",
+        "Overall (kg)",
+    ),
+}
 
 
 def reading_id(wheel: str, index: int) -> str:
@@ -34,11 +77,11 @@ def seat_id(index: int) -> str:
     return f"seat_x_m_{index}"
 
 
-def field_names(seat_count: int) -> list[str]:
+def field_names(seat_count: int, wheels: tuple[str, ...] = WHEELS) -> list[str]:
     """Every input of the form, in page order."""
-    names = [reading_id(w, i) for w in WHEELS for i in range(1, READINGS_PER_WHEEL + 1)]
+    names = [reading_id(w, i) for w in wheels for i in range(1, READINGS_PER_WHEEL + 1)]
     names += ["wheelbase_m", "occupant_mass_kg"] + [seat_id(i) for i in range(seat_count)]
-    names += [measured_id(n, w) for n in range(1, seat_count + 1) for w in WHEELS]
+    names += [measured_id(n, w) for n in range(1, seat_count + 1) for w in wheels]
     return names + LIFT_FIELDS
 
 
@@ -50,7 +93,7 @@ def metres(value: Decimal) -> str:
 
 def initial_values(vehicle: Vehicle, occupant_mass_kg: Decimal) -> dict[str, str]:
     """The form as first shown: geometry and occupants from the vehicle and the settings."""
-    values = dict.fromkeys(field_names(len(vehicle.seats)), "")
+    values = dict.fromkeys(field_names(len(vehicle.seats), wheels_of(vehicle)), "")
     values["wheelbase_m"] = metres(vehicle.wheelbase_m)
     values["occupant_mass_kg"] = f"{occupant_mass_kg.normalize():f}"
     for i, seat in enumerate(vehicle.seats):
@@ -92,20 +135,19 @@ def _readings(form: InspectionForm, prefix: str, ids: dict[str, list[str]]) -> W
         for i, box in enumerate(used):
             form.input_for[f"{path}[{i}]"] = box
         found[wheel] = tuple(values)
-    form.input_for.setdefault(prefix, ids["front_kg"][0])
-    return WheelReadings(
-        found["front_kg"], found["left_rear_kg"], found["right_rear_kg"], found["overall_kg"]
-    )
+    form.input_for.setdefault(prefix, next(iter(ids.values()))[0])
+    return WheelReadings(**found)
 
 
 def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionForm:
     """Parse the posted form into the service's request, or collect what could not be read."""
     seat_count = len(vehicle.seats)
+    wheels = wheels_of(vehicle)
     errors = FormErrors()
-    values = {name: text(form_data, name, errors, limit=40) for name in field_names(seat_count)}
+    values = {name: text(form_data, name, errors, limit=40) for name in field_names(seat_count, wheels)}
     form = InspectionForm(values=values, errors=errors)
     readings = _readings(
-        form, "readings", {w: [reading_id(w, i) for i in range(1, READINGS_PER_WHEEL + 1)] for w in WHEELS}
+        form, "readings", {w: [reading_id(w, i) for i in range(1, READINGS_PER_WHEEL + 1)] for w in wheels}
     )
     wheelbase = _number(form, "wheelbase_m", "wheelbase", "metres", "2.000")
     if wheelbase is None:
@@ -129,11 +171,11 @@ def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionFor
 
     measured: list[MeasuredCase] = []
     for occupants in range(1, seat_count + 1):
-        boxes = {w: [measured_id(occupants, w)] for w in WHEELS}
+        boxes = {w: [measured_id(occupants, w)] for w in wheels}
         if not any(form.values[b[0]] for b in boxes.values()):
             continue
         prefix = f"measured_cases[{len(measured)}]"
-        form.input_for[f"{prefix}.occupants"] = boxes["front_kg"][0]
+        form.input_for[f"{prefix}.occupants"] = boxes[wheels[0]][0]
         measured.append(MeasuredCase(occupants, _readings(form, f"{prefix}.readings", boxes)))
 
     cg_lift = read_lift(form)

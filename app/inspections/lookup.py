@@ -30,7 +30,7 @@ from app.group_commit import write_and_commit
 from app.idempotency.service import ANSWER_COLUMNS, StoredAnswer
 from app.idempotency.service import KEYS_TABLE as _KEYS
 from app.prepared import PreparedCache
-from app.stability import Seat
+from app.stability import Seat, layout_named
 from app.stations.models import Station, StationRateWindow
 from app.stations.on_file import StationOnFile
 from app.stations.rate_limit import on_conflict_count
@@ -123,6 +123,7 @@ def _vehicle(rows: Sequence[dict[str, Any]]) -> VehicleOnFile | None:
             **{name: first[name] for name in DYNAMICS_FIELDS},
         ),
         figures_revision_id=first["revision_id"],
+        layout=layout_named(first["layout"]),
     )
 
 
@@ -152,6 +153,7 @@ def _statement(*, counted_here: bool) -> Any:
             _VEHICLE.c.id.label("vehicle_id"),
             _VEHICLE.c.registration_number,
             _VEHICLE.c.wheelbase_m,
+            _VEHICLE.c.layout,
             _SEAT.c.position.label("seat_position"),
             _SEAT.c.role.label("seat_role"),
             _SEAT.c.x_m.label("seat_x_m"),

@@ -50,9 +50,15 @@ class Inspection(Base):
     # Snapshot of the seats and load items used: [{"role", "x_m"}], [{"label", "mass_kg", "x_m"}].
     occupant_config: Mapped[dict[str, Any]] = mapped_column(JSON)
 
-    front_kg: Mapped[Decimal] = mapped_column(Numeric(10, 4))
-    left_rear_kg: Mapped[Decimal] = mapped_column(Numeric(10, 4))
-    right_rear_kg: Mapped[Decimal] = mapped_column(Numeric(10, 4))
+    # The axle layout assessed under: always the vehicle's (a database trigger checks it).
+    layout: Mapped[str] = mapped_column(String(16), server_default="delta", default="delta")
+    # Each wheel's mean reading; null for a wheel the layout does not have.
+    front_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
+    left_rear_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
+    right_rear_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
+    left_front_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
+    right_front_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
+    rear_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
     overall_kg: Mapped[Decimal | None] = mapped_column(Numeric(10, 4))
     cg_from_front_m: Mapped[Decimal] = mapped_column(Numeric(8, 5))
     compliant: Mapped[bool] = mapped_column(Boolean)
@@ -84,7 +90,11 @@ class Reading(Base):
 
     __tablename__ = "reading"
     __table_args__ = (
-        CheckConstraint("wheel IN ('front_kg', 'left_rear_kg', 'right_rear_kg', 'overall_kg')", name="wheel"),
+        CheckConstraint(
+            "wheel IN ('front_kg', 'left_rear_kg', 'right_rear_kg', 'overall_kg', "
+            "'left_front_kg', 'right_front_kg', 'rear_kg')",
+            name="wheel",
+        ),
     )
 
     inspection_id: Mapped[int] = mapped_column(ForeignKey("inspection.id"), primary_key=True)

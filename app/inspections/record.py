@@ -13,8 +13,21 @@ from fractions import Fraction
 from typing import Any
 
 from app.inspections.models import Inspection
-from app.stability import RULES_VERSION, Assessment, AssessmentInput, LoadItem, Rules, WheelReadings
-from app.stability.model import WHEELS, MeasuredCase
+from app.stability import (
+    Assessment,
+    AssessmentInput,
+    Layout,
+    LoadItem,
+    Rules,
+    WheelReadings,
+    layout_named,
+    rules_version,
+)
+from app.stability.layout import ALL_WHEELS, OVERALL
+from app.stability.model import MeasuredCase
+
+# The readings' order as stored and read back (by wheel name): the delta's as it always was.
+STORED_ORDER = tuple(sorted((*ALL_WHEELS, OVERALL)))
 
 
 def quantize(value: Fraction, places: int) -> Decimal:
@@ -74,9 +87,10 @@ class InspectionRecord:
     sum_tolerance: Decimal
     rules_version: str
     occupant_config: dict[str, Any]
-    front_kg: Decimal
-    left_rear_kg: Decimal
-    right_rear_kg: Decimal
+    # Each wheel's mean; None for a wheel the layout does not have (the other layouts' at the end).
+    front_kg: Decimal | None
+    left_rear_kg: Decimal | None
+    right_rear_kg: Decimal | None
     overall_kg: Decimal | None
     cg_from_front_m: Decimal
     compliant: bool
@@ -87,6 +101,24 @@ class InspectionRecord:
     dynamics_input: dict[str, Any] | None
     readings: tuple[ReadingRow, ...]
     cases: tuple[CaseRow, ...]
+    layout: str = "delta"
+    left_front_kg: Decimal | None = None
+    right_front_kg: Decimal | None = None
+    rear_kg: Decimal | None = None
+
+    @property
+    def axles(self) -> Layout:
+        """The axle layout the inspection was assessed under."""
+        return layout_named(self.layout)
+
+    def wheel_means(self) -> dict[str, Decimal]:
+        """The layout's wheels and their stored means, front first."""
+        return {wheel: getattr(self, wheel) for wheel in self.axles.wheels}
+
+    @property
+    def rear_axle_kg(self) -> Decimal:
+        """The rear axle's load: the rear wheels' means added up."""
+        return sum((getattr(self, wheel) for wheel in self.axles.rear_wheels), Decimal(0))
 
     def columns(self) -> dict[str, Any]:
         """The inspection row's columns (without its id), as the store writes them."""
@@ -105,9 +137,13 @@ INSPECTION_COLUMNS = (
     "sum_tolerance",
     "rules_version",
     "occupant_config",
+    "layout",
     "front_kg",
     "left_rear_kg",
     "right_rear_kg",
+    "left_front_kg",
+    "right_front_kg",
+    "rear_kg",
     "overall_kg",
     "cg_from_front_m",
     "compliant",
@@ -157,16 +193,18 @@ def new_record(
         wheelbase_m=at_scale(result.wheelbase_m, 4),
         occupant_mass_kg=at_scale(result.occupant_mass_kg, 3),
         sum_tolerance=at_scale(rules.sum_tolerance, 4),
-        rules_version=RULES_VERSION,
+        rules_version=rules_version(result.layout),
         occupant_config={
             "seats": [{"role": s.role, "x_m": str(s.x_m)} for s in data.seats],
             "load_items": [
                 {"label": i.label, "mass_kg": str(i.mass_kg), "x_m": str(i.x_m)} for i in load_items
             ],
         },
-        front_kg=quantize(readings.front_kg, 4),
-        left_rear_kg=quantize(readings.left_rear_kg, 4),
-        right_rear_kg=quantize(readings.right_rear_kg, 4),
+        layout=result.layout.name,
+        **{
+            wheel: quantize(readings.mean(wheel), 4) if wheel in readings.means else None
+            for wheel in ALL_WHEELS
+        },
         overall_kg=None if readings.overall_kg is None else quantize(readings.overall_kg, 4),
         cg_from_front_m=quantize(result.cg_from_front_m, 5),
         compliant=result.compliant,
@@ -186,7 +224,7 @@ def reading_rows(readings: WheelReadings, measured_cases: tuple[MeasuredCase, ..
     return tuple(
         ReadingRow(case_occupants, wheel, sequence, at_scale(value, 3))
         for case_occupants, weighing in sets
-        for wheel in sorted(WHEELS)
+        for wheel in STORED_ORDER
         for sequence, value in enumerate(weighing.values(wheel))
     )
 

@@ -6,16 +6,12 @@ from app.dynamics.estimates import CgLift
 from app.inspections.schemas import InspectionIn, ReadingsIn
 from app.inspections.service import InspectionRequest
 from app.stability import LoadItem, MeasuredCase, Seat, WheelReadings
+from app.stability.layout import ALL_WHEELS, OVERALL
 
 
 def wheel_readings(body: ReadingsIn) -> WheelReadings:
     """The core's readings from the API's."""
-    return WheelReadings(
-        front_kg=tuple(body.front_kg),
-        left_rear_kg=tuple(body.left_rear_kg),
-        right_rear_kg=tuple(body.right_rear_kg),
-        overall_kg=tuple(body.overall_kg or ()),
-    )
+    return WheelReadings(**{wheel: tuple(getattr(body, wheel) or ()) for wheel in (*ALL_WHEELS, OVERALL)})
 
 
 def inspection_request(body: InspectionIn) -> InspectionRequest:

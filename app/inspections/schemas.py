@@ -35,14 +35,39 @@ STUDY_LIFT_EXAMPLE: dict[str, Any] = {
 }
 
 
+TADPOLE_EXAMPLE: dict[str, Any] = {
+    "registration_number": "TDP 101 EV",
+    "readings": {"left_front_kg": 186, "right_front_kg": 182, "rear_kg": 112, "overall_kg": 480},
+}
+QUADRICYCLE_EXAMPLE: dict[str, Any] = {
+    "registration_number": "QDC 202 AA",
+    "readings": {
+        "left_front_kg": [150, 152],
+        "right_front_kg": 148,
+        "left_rear_kg": 140,
+        "right_rear_kg": 143,
+        "overall_kg": 582,
+    },
+}
+_WHEELS_OF = (
+    "The wheels read are those of the vehicle's axle layout: a delta's `front_kg`, `left_rear_kg`, "
+    "`right_rear_kg`; a tadpole's `left_front_kg`, `right_front_kg`, `rear_kg`; a quadricycle's "
+    "`left_front_kg`, `right_front_kg`, `left_rear_kg`, `right_rear_kg`. Each of them is required, and a "
+    "wheel of another layout is refused (422, naming it and the vehicle's layout)."
+)
+
+
 class ReadingsIn(BaseModel):
     """One weighing: each wheel (and optionally the whole vehicle) read once or several times, in kg."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"description": _WHEELS_OF})
 
-    front_kg: WheelReading
-    left_rear_kg: WheelReading
-    right_rear_kg: WheelReading
+    front_kg: WheelReading | None = None
+    left_rear_kg: WheelReading | None = None
+    right_rear_kg: WheelReading | None = None
+    left_front_kg: WheelReading | None = None
+    right_front_kg: WheelReading | None = None
+    rear_kg: WheelReading | None = None
     overall_kg: OverallReading | None = None
 
 
@@ -78,7 +103,10 @@ class InspectionIn(BaseModel):
     """A weighbridge submission for a registered vehicle."""
 
     model_config = ConfigDict(
-        extra="forbid", json_schema_extra={"examples": [STUDY_EXAMPLE, STUDY_LIFT_EXAMPLE]}
+        extra="forbid",
+        json_schema_extra={
+            "examples": [STUDY_EXAMPLE, STUDY_LIFT_EXAMPLE, TADPOLE_EXAMPLE, QUADRICYCLE_EXAMPLE]
+        },
     )
 
     registration_number: RegistrationNumber
@@ -110,12 +138,29 @@ class LoadingCaseOut(BaseModel):
     )
 
 
-class AveragedReadingsOut(BaseModel):
-    """The mean of each wheel's readings (kg) and the weight the cases start from."""
+def _absent(value: object) -> bool:
+    """A wheel the vehicle's layout does not have is left out of the answer."""
+    return value is None
 
-    front_kg: float
-    left_rear_kg: float
-    right_rear_kg: float
+
+def _delta(value: object) -> bool:
+    """The delta, the default layout, is left out: its answers are as they always were."""
+    return value == "delta"
+
+
+class AveragedReadingsOut(BaseModel):
+    """The mean of each wheel's readings (kg) and the weight the cases start from.
+
+    A delta's `front_kg`, `left_rear_kg`, `right_rear_kg`; a tadpole's `left_front_kg`,
+    `right_front_kg` and `rear_kg` (its one rear wheel); a quadricycle's four. `rear_kg` is always the
+    rear axle's load.
+    """
+
+    front_kg: float | None = Field(default=None, exclude_if=_absent)
+    left_rear_kg: float | None = Field(default=None, exclude_if=_absent)
+    right_rear_kg: float | None = Field(default=None, exclude_if=_absent)
+    left_front_kg: float | None = Field(default=None, exclude_if=_absent)
+    right_front_kg: float | None = Field(default=None, exclude_if=_absent)
     overall_kg: float | None
     rear_kg: float
     total_kg: float
@@ -133,7 +178,7 @@ class SettingsOut(BaseModel):
 
     occupant_mass_kg: float
     sum_tolerance: float
-    lsf_limit: Literal["2/3"] = "2/3"
+    lsf_limit: Literal["2/3", "1/3", "1/2"] = "2/3"
     rules_version: str
 
 
@@ -152,6 +197,12 @@ class InspectionOut(InspectionSummary):
     """A stored inspection: the inputs as received and Table 4 as decided."""
 
     vehicle_id: int
+    layout: Literal["delta", "tadpole", "quadricycle"] = Field(
+        default="delta",
+        exclude_if=_delta,
+        description="The vehicle's axle layout, which gives the wheels and the limit; left out for a "
+        "delta (the default).",
+    )
     wheelbase_m: float
     readings: AveragedReadingsOut
     raw_readings: dict[str, list[float]]

@@ -70,6 +70,7 @@ def build_input(vehicle: VehicleOnFile, request: InspectionRequest) -> Assessmen
         load_items=request.load_items,
         measured_cases=request.measured_cases,
         occupant_mass_kg=request.occupant_mass_kg,
+        layout=vehicle.layout,
     )
 
 

@@ -21,6 +21,7 @@ The steps of the rule, in order, on one pooled connection:
 
 from __future__ import annotations
 
+import re
 import time
 from dataclasses import replace
 from typing import Any
@@ -34,6 +35,7 @@ from app.api.validation import validated_body
 from app.api.windows import RateLimit, window_start
 from app.config import get_settings
 from app.db import autocommit, get_engine
+from app.errors import InvalidInput
 from app.group_commit import write_and_commit
 from app.idempotency.http import claim_of, created, key_of, replay, retention
 from app.idempotency.service import maybe_prune, stored_answer, unless_expired
@@ -79,20 +81,24 @@ def submit_inspection(
 
         claim = None
         if idempotency_key is not None:
-            payload = body.model_dump(mode="json")
+            payload = _payload(body)
             claim = claim_of(idempotency_key, station_id=station.id, operation=OPERATION, payload=payload)
             if on_file.stored is not None:
                 stored = unless_expired(connection, claim, on_file.stored, retention=retention())
                 if stored is not None:
                     return replay(claim, stored)
 
-        decided = decide(
-            inspection_request(body),
-            vehicle=_registered(on_file, body.registration_number),
-            station=station,
-            rules=settings.rules(),
-            scale_rules=configured_scale_rules(),
-        )
+        vehicle = _registered(on_file, body.registration_number)
+        try:
+            decided = decide(
+                inspection_request(body),
+                vehicle=vehicle,
+                station=station,
+                rules=settings.rules(),
+                scale_rules=configured_scale_rules(),
+            )
+        except InvalidInput as error:
+            raise _wheel_refusal(error, vehicle) from error
         answers: list[bytes] = []
 
         def answer(record: InspectionRecord) -> bytes:
@@ -122,6 +128,49 @@ def submit_inspection(
         if claim is not None:
             maybe_prune(retention=retention())
         return created(answer(replace(record, id=inspection_id)))
+
+
+# The wheels added with the other layouts: left out of a body's payload when not sent, so a delta's
+# Idempotency-Key stored before they existed still matches the same body sent again.
+_LAYOUT_WHEELS = ("left_front_kg", "right_front_kg", "rear_kg")
+
+
+def _payload(body: InspectionIn) -> dict[str, Any]:
+    """The body as its Idempotency-Key remembers it."""
+    payload: dict[str, Any] = body.model_dump(mode="json")
+    for readings in [payload["readings"], *(case["readings"] for case in payload["measured_cases"])]:
+        for wheel in _LAYOUT_WHEELS:
+            if readings.get(wheel) is None:
+                readings.pop(wheel, None)
+    return payload
+
+
+_WHEEL_FIELD = re.compile(r"^(measured_cases\[\d+\]\.)?readings\.\w+_kg$")
+
+
+def _wheel_refusal(error: InvalidInput, vehicle: VehicleOnFile) -> InvalidInput:
+    """A wheel of the vehicle's layout left out of the body, or one of another layout sent: refused
+    with the API's rules for a key missing (`missing`) or not allowed (`extra_forbidden`), naming the
+    vehicle's layout and its wheels.
+
+    The schema cannot decide either, as the wheels depend on the vehicle; an empty list is refused by
+    the schema, so the core's `required` here always means the key was not sent.
+    """
+    problem = error.problems[0] if error.problems else None
+    field = problem.field if problem is not None else None
+    if problem is None or field is None or not _WHEEL_FIELD.match(field):
+        return error
+    layout = vehicle.layout
+    if problem.rule == "not_in_layout":
+        return InvalidInput(problem.message, field=field, rule="extra_forbidden")
+    if problem.rule != "required":
+        return error
+    return InvalidInput(
+        f"{field}: required: a {layout.name} vehicle ({layout.description}) is weighed on "
+        f"{', '.join(layout.wheels)}",
+        field=field,
+        rule="missing",
+    )
 
 
 def _registration_key(document: Any) -> str | None:

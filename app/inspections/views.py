@@ -16,9 +16,16 @@ from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
 from app.ids import IdChoice, PageNumber, parse_id
-from app.inspections.forms import READINGS_PER_WHEEL, initial_values, read_inspection_form
+from app.inspections.forms import (
+    READINGS_PER_WHEEL,
+    WHEEL_LABELS,
+    initial_values,
+    read_inspection_form,
+    wheels_of,
+)
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionFilter, list_inspections, record_inspection
+from app.stability import layout_named
 from app.stations.models import Station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import display_registration, find_vehicle
@@ -57,6 +64,7 @@ def _form_page(
             "errors": errors.messages,
             "form_token": token,
             "readings_per_wheel": READINGS_PER_WHEEL,
+            "wheels": [(w, *WHEEL_LABELS[w]) for w in wheels_of(vehicle)],
             "measured_open": any(
                 k.startswith("measured_") and (v or k in errors.messages) for k, v in values.items()
             ),
@@ -148,7 +156,7 @@ def result_context(session: Session, inspection: Inspection) -> dict[str, Any]:
             [(c.occupants, c.compliant) for c in cases], inspection.max_compliant_occupants
         ),
         "occupancy": occupancy_sentence(inspection.compliant, inspection.max_compliant_occupants),
-        "chart": lsf_chart(points),
+        "chart": lsf_chart(points, limit=layout_named(inspection.layout).limit),
     }
 
 

@@ -17,7 +17,6 @@ from app.stability.remedies import (
     Remedy,
     advice,
     as_decimal,
-    complies,
 )
 
 
@@ -125,10 +124,6 @@ def _lsf(value: Fraction | None) -> float | None:
     return None if value is None else float(round(value, 6))
 
 
-def _verdict(value: Fraction | None) -> bool | None:
-    return None if value is None else complies(value)
-
-
 def _case(case: CaseRemedies) -> CaseRemediesOut:
     return CaseRemediesOut(
         occupants=case.occupants,
@@ -143,9 +138,9 @@ def _case(case: CaseRemedies) -> CaseRemediesOut:
         ),
         tyre_ratio=float(as_decimal(advice(case.tyre_ratio, RATIO_STEP), RATIO_STEP)),
         lsf_after_ballast=_lsf(case.lsf_after_ballast),
-        compliant_after_ballast=_verdict(case.lsf_after_ballast),
+        compliant_after_ballast=case.complies_after_ballast,
         lsf_after_seat_shift=_lsf(case.lsf_after_seat_shift),
-        compliant_after_seat_shift=_verdict(case.lsf_after_seat_shift),
+        compliant_after_seat_shift=case.complies_after_seat_shift,
     )
 
 

@@ -18,7 +18,9 @@ from app.stability import (
     StabilityError,
     WheelReadings,
     assess,
+    layout_named,
 )
+from app.stability.layout import ALL_WHEELS, OVERALL
 from app.stability.remedies import Remedies, size_remedies
 
 
@@ -28,12 +30,7 @@ def stored_readings(inspection: Inspection, case_occupants: int) -> WheelReading
     for reading in inspection.readings:  # ordered by case, wheel and sequence
         if reading.case_occupants == case_occupants:
             values[reading.wheel].append(reading.value_kg)
-    return WheelReadings(
-        front_kg=tuple(values["front_kg"]),
-        left_rear_kg=tuple(values["left_rear_kg"]),
-        right_rear_kg=tuple(values["right_rear_kg"]),
-        overall_kg=tuple(values["overall_kg"]),
-    )
+    return WheelReadings(**{wheel: tuple(values[wheel]) for wheel in (*ALL_WHEELS, OVERALL)})
 
 
 def stored_assessment(inspection: Inspection) -> Assessment:
@@ -53,6 +50,7 @@ def stored_assessment(inspection: Inspection) -> Assessment:
         ),
         measured_cases=tuple(MeasuredCase(n, stored_readings(inspection, n)) for n in measured),
         occupant_mass_kg=inspection.occupant_mass_kg,
+        layout=layout_named(inspection.layout),
     )
     # The tolerance in force then; the plausibility bounds are the core's, under which it was accepted.
     result = assess(

@@ -86,7 +86,9 @@ def _sized(inspection: Inspection, choice: RemedyChoice, errors: FormErrors) -> 
 
 def _points(remedies: Remedies, after: list[Fraction | None]) -> list[ChartPoint]:
     return [
-        ChartPoint(short_label(c.occupants), case_name(c.occupants), float(lsf), complies(lsf))
+        ChartPoint(
+            short_label(c.occupants), case_name(c.occupants), float(lsf), complies(lsf, remedies.layout)
+        )
         for c, lsf in zip(remedies.cases, after, strict=True)
         if lsf is not None
     ]
@@ -119,7 +121,9 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
     before = _points(remedies, [c.lsf for c in remedies.cases])
     chart = None
     if applied is not None and None not in chosen:
-        chart = before_after_chart(before, _points(remedies, chosen), remedy=applied)
+        chart = before_after_chart(
+            before, _points(remedies, chosen), remedy=applied, limit=remedies.layout.limit
+        )
     _inputs, estimates = inspection_dynamics(inspection)
     thresholds: dict[int, float | None] = {
         case.occupants: case.rollover_threshold_g for case in estimates.cases
@@ -136,9 +140,9 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
             "lsf": c.lsf,
             "compliant": c.compliant,
             "after_ballast": c.lsf_after_ballast,
-            "ballast_complies": c.lsf_after_ballast is not None and complies(c.lsf_after_ballast),
+            "ballast_complies": bool(c.complies_after_ballast),
             "after_seat_shift": c.lsf_after_seat_shift,
-            "seat_shift_complies": c.lsf_after_seat_shift is not None and complies(c.lsf_after_seat_shift),
+            "seat_shift_complies": bool(c.complies_after_seat_shift),
         }
         for c in remedies.cases
     ]
@@ -148,6 +152,8 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
         "rows": rows,
         "rollover_known": any(value is not None for value in thresholds.values()),
         "chart": chart,
+        "limit": float(remedies.layout.limit),
+        "limit_text": remedies.layout.limit_text,
         "applied": applied,
         "remedy_name": REMEDIES[choice.remedy],
         "form": values,

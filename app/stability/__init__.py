@@ -4,6 +4,7 @@ Imports nothing but the standard library, so every door (API, pages, CLI, PDF) s
 """
 
 from app.stability.errors import StabilityError
+from app.stability.layout import DELTA, LAYOUT_NAMES, LAYOUTS, QUADRICYCLE, TADPOLE, Layout, layout_named
 from app.stability.lsf import assess
 from app.stability.model import (
     LSF_LIMIT,
@@ -17,13 +18,20 @@ from app.stability.model import (
     Seat,
     WheelReadings,
     case_label,
+    rules_version,
 )
 
 __all__ = [
+    "DELTA",
+    "LAYOUTS",
+    "LAYOUT_NAMES",
     "LSF_LIMIT",
+    "QUADRICYCLE",
     "RULES_VERSION",
+    "TADPOLE",
     "Assessment",
     "AssessmentInput",
+    "Layout",
     "LoadItem",
     "LoadingCase",
     "MeasuredCase",
@@ -33,4 +41,6 @@ __all__ = [
     "WheelReadings",
     "assess",
     "case_label",
+    "layout_named",
+    "rules_version",
 ]

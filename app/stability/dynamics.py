@@ -84,6 +84,14 @@ class DynamicsInput:
     cg_height_m: float | None = None  # given directly instead of the lift
     has_load_items: bool = False  # their heights are unknown: no case CG height then
     weighed_total_kg: float | None = None  # the weighing's W when load items make case 0 heavier
+    # The axle layout's tyres (reference section 9): the delta's one front and two rear by default.
+    n_front: int = 1
+    n_rear: int = 2
+
+    @property
+    def limit(self) -> float:
+        """The layout's LSF limit n_r / (n_f + n_r) as a float, for the estimates only (2/3 on a delta)."""
+        return self.n_rear / (self.n_front + self.n_rear)
 
 
 @dataclass(frozen=True)
@@ -246,6 +254,21 @@ def rollover_threshold(*, track_m: float, cg_height_m: float, lsf: float) -> flo
     return track_m / (2 * cg_height_m) * lsf
 
 
+def rollover_threshold_about_axis(
+    *, front_track_m: float, rear_track_m: float, cg_height_m: float, lsf: float
+) -> float:
+    """Any layout (reference section 9): the vehicle tips about the line from an outer front contact
+    point to the outer rear one on the same side, which passes the CG's station L1 = LSF WB at
+    y = T_f / 2 + (T_r / 2 - T_f / 2) LSF from the centre line; the threshold is y / h, in g.
+
+    A single wheel has track 0: the delta's (T_r / 2h) LSF, the tadpole's (T_f / 2h) (1 - LSF), a
+    quadricycle with equal tracks T / 2h.
+    """
+    if front_track_m == 0:  # one front wheel: the study's own expression, to the last bit
+        return rollover_threshold(track_m=rear_track_m, cg_height_m=cg_height_m, lsf=lsf)
+    return (front_track_m / 2 + (rear_track_m / 2 - front_track_m / 2) * lsf) / cg_height_m
+
+
 def rollover_after_remedy(threshold_g: float, *, lsf_before: float, lsf_after: float) -> float:
     """A case's rollover threshold once a remedy has moved its LSF, its CG height kept: exact for
     seats moved forward (no height changes), and for ballast the figure when the ballast sits at the
@@ -259,21 +282,35 @@ def tilt_angle_deg(threshold_g: float) -> float:
 
 
 def understeer_margin(
-    *, wheelbase_m: float, lsf: float, front_n_per_rad: float, rear_n_per_rad: float
+    *,
+    wheelbase_m: float,
+    lsf: float,
+    front_n_per_rad: float,
+    rear_n_per_rad: float,
+    n_front: int = 1,
+    n_rear: int = 2,
 ) -> float:
-    """S = 2 L2 CaR - L1 CaF (N m/rad); positive understeers at every speed."""
+    """S = n_r L2 CaR - n_f L1 CaF (N m/rad), 2 L2 CaR - L1 CaF on a delta; positive understeers."""
     l1 = wheelbase_m * lsf
     l2 = wheelbase_m - l1
-    return 2 * l2 * rear_n_per_rad - l1 * front_n_per_rad
+    return n_rear * l2 * rear_n_per_rad - n_front * l1 * front_n_per_rad
 
 
 def critical_speed_ms(
-    *, wheelbase_m: float, mass_kg: float, margin: float, front_n_per_rad: float, rear_n_per_rad: float
+    *,
+    wheelbase_m: float,
+    mass_kg: float,
+    margin: float,
+    front_n_per_rad: float,
+    rear_n_per_rad: float,
+    n_front: int = 1,
+    n_rear: int = 2,
 ) -> float | None:
-    """WB sqrt(2 CaF CaR / (m (L1 CaF - 2 L2 CaR))) when S < 0; None otherwise (no finite speed)."""
+    """WB sqrt(n_f CaF n_r CaR / (m (n_f L1 CaF - n_r L2 CaR))) when S < 0 (the delta's
+    WB sqrt(2 CaF CaR / (m (L1 CaF - 2 L2 CaR)))); None otherwise (no finite speed)."""
     if margin >= 0:  # S = 0 is neutral steer: the linear model has no finite critical speed
         return None
-    return wheelbase_m * math.sqrt(2 * front_n_per_rad * rear_n_per_rad / (mass_kg * -margin))
+    return wheelbase_m * math.sqrt(n_front * n_rear * front_n_per_rad * rear_n_per_rad / (mass_kg * -margin))
 
 
 def assess_dynamics(data: DynamicsInput) -> Dynamics:
@@ -285,6 +322,9 @@ def assess_dynamics(data: DynamicsInput) -> Dynamics:
     h0 = _empty_cg_height(data, empty, missing)
     if vehicle.track_m is None:
         missing.append("track_m")
+    # Two front wheels tip about their own track, which the vehicle's figures do not hold yet.
+    if data.n_front > 1:
+        missing.append("front_track_m")
     stiffness = (vehicle.front_cornering_stiffness_n_per_rad, vehicle.rear_cornering_stiffness_n_per_rad)
     for name, value in zip(
         ("front_cornering_stiffness_n_per_rad", "rear_cornering_stiffness_n_per_rad"), stiffness, strict=True
@@ -298,14 +338,21 @@ def assess_dynamics(data: DynamicsInput) -> Dynamics:
         height = None if h0 is None or data.has_load_items else _case_height(data, case, h0, missing)
         threshold = (
             None
-            if height is None or vehicle.track_m is None
-            else rollover_threshold(track_m=vehicle.track_m, cg_height_m=height, lsf=case.lsf)
+            if height is None or vehicle.track_m is None or data.n_front > 1
+            else rollover_threshold_about_axis(
+                front_track_m=0.0, rear_track_m=vehicle.track_m, cg_height_m=height, lsf=case.lsf
+            )
         )
         margin = speed = None
         front, rear = stiffness
         if front is not None and rear is not None:
             margin = understeer_margin(
-                wheelbase_m=data.wheelbase_m, lsf=case.lsf, front_n_per_rad=front, rear_n_per_rad=rear
+                wheelbase_m=data.wheelbase_m,
+                lsf=case.lsf,
+                front_n_per_rad=front,
+                rear_n_per_rad=rear,
+                n_front=data.n_front,
+                n_rear=data.n_rear,
             )
             speed = critical_speed_ms(
                 wheelbase_m=data.wheelbase_m,
@@ -313,6 +360,8 @@ def assess_dynamics(data: DynamicsInput) -> Dynamics:
                 margin=margin,
                 front_n_per_rad=front,
                 rear_n_per_rad=rear,
+                n_front=data.n_front,
+                n_rear=data.n_rear,
             )
         results.append(
             CaseDynamics(
@@ -392,9 +441,11 @@ def margin_speed_ms(
     drag_area_m2: float,
     centre_of_pressure_height_m: float,
     air_density_kg_m3: float,
+    limit: float = LSF_LIMIT,
 ) -> float | None:
-    """U = sqrt(2 (2/3 W - R) g WB / (rho Cd A h_cp)): drag alone uses up the margin; None if none."""
-    margin_kg = LSF_LIMIT * case.total_kg - case.rear_kg
+    """U = sqrt(2 (limit W - R) g WB / (rho Cd A h_cp)), limit 2/3 on a delta: drag alone uses up the
+    margin; None if none."""
+    margin_kg = limit * case.total_kg - case.rear_kg
     if margin_kg <= 0 or case.compliant is False:
         return None
     return math.sqrt(
@@ -438,13 +489,14 @@ def at_speed(
         )
         lsf = (case.rear_kg + moved) / case.total_kg
         # Nothing moved (standing still): the exact static verdict, not a float comparison at 2/3.
-        compliant = case.compliant if moved == 0 and case.compliant is not None else lsf < LSF_LIMIT
+        compliant = case.compliant if moved == 0 and case.compliant is not None else lsf < data.limit
         margin = margin_speed_ms(
             wheelbase_m=data.wheelbase_m,
             case=case,
             drag_area_m2=area,
             centre_of_pressure_height_m=height,
             air_density_kg_m3=air_density_kg_m3,
+            limit=data.limit,
         )
         results.append(
             CaseAtSpeed(

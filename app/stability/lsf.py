@@ -7,6 +7,7 @@ from decimal import Decimal
 from fractions import Fraction
 
 from app.stability.errors import StabilityError
+from app.stability.layout import DELTA, OVERALL, Layout
 from app.stability.model import (
     Assessment,
     AssessmentInput,
@@ -36,23 +37,24 @@ def checked_mean(values: Sequence[Decimal]) -> Fraction:
     return Fraction(sum(values, Decimal(0))) / len(values)
 
 
-def average_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "readings") -> AveragedReadings:
+def average_readings(
+    readings: WheelReadings, rules: Rules, *, prefix: str = "readings", layout: Layout = DELTA
+) -> AveragedReadings:
     """Validate and average one weighing's readings, checking the wheel sum against the overall weight."""
-    check_readings(readings, rules, prefix=prefix)
+    check_readings(readings, rules, prefix=prefix, layout=layout)
     overall = checked_mean(readings.overall_kg) if readings.overall_kg else None
     averaged = AveragedReadings(
-        front_kg=checked_mean(readings.front_kg),
-        left_rear_kg=checked_mean(readings.left_rear_kg),
-        right_rear_kg=checked_mean(readings.right_rear_kg),
+        means={wheel: checked_mean(readings.values(wheel)) for wheel in layout.wheels},
         overall_kg=overall,
         spread_kg={
             wheel: Fraction(max(values) - min(values))
-            for wheel in ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
+            for wheel in (*layout.wheels, OVERALL)
             if (values := readings.values(wheel))
         },
+        layout=layout,
     )
     if overall is not None:
-        check_sum_tolerance(averaged.wheel_sum_kg, overall, rules, prefix=prefix)
+        check_sum_tolerance(averaged.wheel_sum_kg, overall, rules, prefix=prefix, layout=layout)
     return averaged
 
 
@@ -61,17 +63,18 @@ def assess(data: AssessmentInput, rules: Rules | None = None) -> Assessment:
     rules = rules or Rules()
     check_geometry(data, rules)
     check_measured_occupants(data)
-    return assess_averaged(average_readings(data.readings, rules), data, rules)
+    return assess_averaged(average_readings(data.readings, rules, layout=data.layout), data, rules)
 
 
 def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules) -> Assessment:
     """The loading cases from readings already averaged (a type's mean readings); `data` gives the rest."""
     mass = data.occupant_mass_kg if data.occupant_mass_kg is not None else rules.occupant_mass_kg
     wheelbase = Fraction(data.wheelbase_m)
+    layout = base.layout
 
     # The empty case can lift a wheel from the readings alone (W well below b + c) or from the load
     # items; name whichever is responsible, never the seats, which carry nobody in this case.
-    _checked(LoadingCase(occupants=0, total_kg=base.total_kg, rear_kg=base.rear_kg), "readings")
+    _checked(LoadingCase(0, base.total_kg, base.rear_kg, layout=layout), "readings")
     total = base.total_kg
     rear = base.rear_kg
     for item in data.load_items:
@@ -79,7 +82,7 @@ def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules)
         rear += Fraction(item.mass_kg) * Fraction(item.x_m) / wheelbase
 
     measured = {m.occupants: m for m in data.measured_cases}
-    cases = [_checked(LoadingCase(occupants=0, total_kg=total, rear_kg=rear), "load_items")]
+    cases = [_checked(LoadingCase(0, total, rear, layout=layout), "load_items")]
     occupant = Fraction(mass)
     per_metre = occupant / wheelbase
     for index, seat in enumerate(data.seats):
@@ -89,28 +92,29 @@ def assess_averaged(base: AveragedReadings, data: AssessmentInput, rules: Rules)
         rear += per_metre * Fraction(seat.x_m)
         if occupants in measured:
             prefix = f"measured_cases[{data.measured_cases.index(measured[occupants])}].readings"
-            weighed = average_readings(measured[occupants].readings, rules, prefix=prefix)
-            case = LoadingCase(occupants, weighed.total_kg, weighed.rear_kg, measured=True)
+            weighed = average_readings(measured[occupants].readings, rules, prefix=prefix, layout=layout)
+            case = LoadingCase(occupants, weighed.total_kg, weighed.rear_kg, measured=True, layout=layout)
             cases.append(_checked(case, prefix))
         else:
-            cases.append(_checked(LoadingCase(occupants, total, rear), f"occupants.seats[{index}].x_m"))
+            case = LoadingCase(occupants, total, rear, layout=layout)
+            cases.append(_checked(case, f"occupants.seats[{index}].x_m"))
     return Assessment(readings=base, wheelbase_m=data.wheelbase_m, occupant_mass_kg=mass, cases=tuple(cases))
 
 
 def _checked(case: LoadingCase, field: str) -> LoadingCase:
-    """Refuse a loading case that would lift the front wheel or the rear wheels off the ground."""
+    """Refuse a loading case that would lift the front or the rear axle off the ground."""
     if case.total_kg <= case.rear_kg:  # front_kg <= 0, without computing it
         raise StabilityError(
             field,
             "front_wheel_lift",
-            f"{field}: with {case.occupants} occupant(s) the front wheel would carry "
+            f"{field}: with {case.occupants} occupant(s) the {case.layout.front_axle_words} would carry "
             f"{fmt_kg(case.front_kg)} kg and lift off the ground; check the seat positions and readings",
         )
     if case.rear_kg <= 0:
         raise StabilityError(
             field,
             "rear_wheel_lift",
-            f"{field}: with {case.occupants} occupant(s) the rear wheels would carry "
+            f"{field}: with {case.occupants} occupant(s) the {case.layout.rear_axle_words} would carry "
             f"{fmt_kg(case.rear_kg)} kg and lift off the ground; check the seat positions and readings",
         )
     return case

@@ -8,10 +8,16 @@ from fractions import Fraction
 from functools import cached_property
 from typing import Literal
 
-# The study's standard: the vehicle understeers (is laterally stable) when LSF < 2/3.
-LSF_LIMIT = Fraction(2, 3)
+from app.stability.layout import DELTA, LAYOUTS, Layout
 
-Wheel = Literal["front_kg", "left_rear_kg", "right_rear_kg", "overall_kg"]
+# The study's standard for its delta keke: the vehicle understeers when LSF < 2/3. Other layouts have
+# their own limit (`Layout.limit`, reference section 9).
+LSF_LIMIT = DELTA.limit
+
+Wheel = Literal[
+    "front_kg", "left_rear_kg", "right_rear_kg", "overall_kg", "left_front_kg", "right_front_kg", "rear_kg"
+]
+# The delta's wheels and the overall weight (the study's readings); `Layout.wheels` for any layout.
 WHEELS: tuple[Wheel, ...] = ("front_kg", "left_rear_kg", "right_rear_kg", "overall_kg")
 SeatRole = Literal["driver", "passenger"]
 
@@ -38,14 +44,20 @@ class Rules:
 
 @dataclass(frozen=True)
 class WheelReadings:
-    """Raw weighbridge readings of one weighing, each wheel read one or more times (kg)."""
+    """Raw weighbridge readings of one weighing, each wheel read one or more times (kg).
 
-    front_kg: tuple[Decimal, ...]
-    left_rear_kg: tuple[Decimal, ...]
-    right_rear_kg: tuple[Decimal, ...]
+    A wheel the vehicle's layout does not have is left empty (the core refuses it otherwise).
+    """
+
+    front_kg: tuple[Decimal, ...] = ()
+    left_rear_kg: tuple[Decimal, ...] = ()
+    right_rear_kg: tuple[Decimal, ...] = ()
     overall_kg: tuple[Decimal, ...] = ()
+    left_front_kg: tuple[Decimal, ...] = ()
+    right_front_kg: tuple[Decimal, ...] = ()
+    rear_kg: tuple[Decimal, ...] = ()
 
-    def values(self, wheel: Wheel) -> tuple[Decimal, ...]:
+    def values(self, wheel: Wheel | str) -> tuple[Decimal, ...]:
         """The raw readings of one wheel (or of the overall weight)."""
         result: tuple[Decimal, ...] = getattr(self, wheel)
         return result
@@ -86,27 +98,46 @@ class AssessmentInput:
     load_items: tuple[LoadItem, ...] = ()
     measured_cases: tuple[MeasuredCase, ...] = ()
     occupant_mass_kg: Decimal | None = None  # None: the rules' standard occupant mass
+    layout: Layout = DELTA
 
 
 @dataclass(frozen=True)
 class AveragedReadings:
-    """The mean of each wheel's readings, and the overall weight used (exact)."""
+    """The mean of each wheel's readings (`means`, the layout's wheels), and the overall weight used."""
 
-    front_kg: Fraction
-    left_rear_kg: Fraction
-    right_rear_kg: Fraction
+    means: dict[str, Fraction]
     overall_kg: Fraction | None
     spread_kg: dict[str, Fraction] = field(default_factory=dict)
+    layout: Layout = DELTA
+
+    def mean(self, wheel: str) -> Fraction:
+        """The mean reading of one of the layout's wheels."""
+        return self.means[wheel]
+
+    @property
+    def front_kg(self) -> Fraction:
+        """Load on the front axle: the front wheel of a delta, both front wheels otherwise."""
+        return sum((self.means[w] for w in self.layout.front_wheels), Fraction(0))
 
     @property
     def rear_kg(self) -> Fraction:
-        """Load on the two rear wheels, b + c."""
-        return self.left_rear_kg + self.right_rear_kg
+        """Load on the rear axle: b + c on a delta, the one rear wheel of a tadpole."""
+        return sum((self.means[w] for w in self.layout.rear_wheels), Fraction(0))
+
+    @property
+    def left_rear_kg(self) -> Fraction:
+        """The left rear wheel's mean (a delta's or a quadricycle's)."""
+        return self.means["left_rear_kg"]
+
+    @property
+    def right_rear_kg(self) -> Fraction:
+        """The right rear wheel's mean (a delta's or a quadricycle's)."""
+        return self.means["right_rear_kg"]
 
     @property
     def wheel_sum_kg(self) -> Fraction:
-        """a + b + c."""
-        return self.front_kg + self.left_rear_kg + self.right_rear_kg
+        """Every wheel's mean added up: a + b + c on a delta."""
+        return self.front_kg + self.rear_kg
 
     @property
     def total_kg(self) -> Fraction:
@@ -122,28 +153,34 @@ class LoadingCase:
     total_kg: Fraction
     rear_kg: Fraction
     measured: bool = False
+    layout: Layout = DELTA
+
+    @property
+    def limit(self) -> Fraction:
+        """The layout's exact limit of the LSF (2/3 for the delta)."""
+        return self.layout.limit
 
     @property
     def front_kg(self) -> Fraction:
-        """Load on the front wheel."""
+        """Load on the front axle."""
         return self.total_kg - self.rear_kg
 
     # Computed once per case (a frozen dataclass keeps cached properties in its __dict__): the
     # verdict, the variance and the stored figures all read the same exact fraction.
     @cached_property
     def lsf(self) -> Fraction:
-        """Lateral Stability Factor: the share of the weight on the rear wheels."""
+        """Lateral Stability Factor: the share of the weight on the rear axle."""
         return self.rear_kg / self.total_kg
 
     @property
     def variance(self) -> Fraction:
-        """2/3 - LSF: positive is margin, negative is excess."""
-        return LSF_LIMIT - self.lsf
+        """limit - LSF (2/3 - LSF on a delta): positive is margin, negative is excess."""
+        return self.layout.limit - self.lsf
 
     @cached_property
     def compliant(self) -> bool:
-        """C when LSF < 2/3 strictly; exactly 2/3 is NC."""
-        return self.lsf < LSF_LIMIT
+        """C when LSF < the layout's limit strictly; exactly at the limit is NC."""
+        return self.lsf < self.layout.limit
 
 
 @dataclass(frozen=True)
@@ -154,6 +191,11 @@ class Assessment:
     wheelbase_m: Decimal
     occupant_mass_kg: Decimal
     cases: tuple[LoadingCase, ...]
+
+    @property
+    def layout(self) -> Layout:
+        """The vehicle's axle layout, which gives the limit."""
+        return self.readings.layout
 
     @property
     def compliant(self) -> bool:
@@ -178,8 +220,21 @@ class Assessment:
         return Fraction(self.wheelbase_m) * self.readings.rear_kg / self.readings.total_kg
 
 
+def rules_version(layout: Layout) -> str:
+    """The rules decided under, stored with every inspection: the layout's limit is part of it."""
+    return f"lsf<{layout.limit_text}:cumulative-cases:v1"
+
+
 # Stored with every inspection, so a later change of the rules never rewrites a past result.
-RULES_VERSION = "lsf<2/3:cumulative-cases:v1"
+RULES_VERSION = rules_version(DELTA)
+
+
+def layout_of_rules(version: str) -> Layout:
+    """The layout whose limit a rules version names (a type's version starts with one); else the delta."""
+    for layout in LAYOUTS.values():
+        if version.startswith(f"lsf<{layout.limit_text}:"):
+            return layout
+    return DELTA
 
 
 def case_label(occupants: int) -> str:

@@ -4,6 +4,10 @@ Reference section 6. For a case with total W and rear load R (kg), non-compliant
 ballast m_b at x_b complies when m_b > (3R - 2W) / (2 - 3 x_b / WB) (x_b < 2/3 WB); moving every
 passenger seat forward by d complies when d > (3R - 2W) WB / (3 p m_o) (p >= 1 passengers); rear tyres
 understeer when CaR / CaF > R / (2 (W - R)). Decided in exact fractions; the advice is rounded up.
+
+Section 9 for any layout of n_f front and n_r rear tyres (the delta: 1 and 2, giving the above): the
+excess is (n_f + n_r) R - n_r W, ballast needs m_b > excess / (n_r - (n_f + n_r) x_b / WB), the seats
+d > excess WB / ((n_f + n_r) p m_o), the rear tyres CaR / CaF > n_f R / (n_r F).
 """
 
 from __future__ import annotations
@@ -14,7 +18,8 @@ from decimal import Decimal
 from fractions import Fraction
 
 from app.stability.errors import StabilityError
-from app.stability.model import LSF_LIMIT, Assessment, LoadingCase, Rules
+from app.stability.layout import DELTA, Layout
+from app.stability.model import Assessment, LoadingCase, Rules
 from app.stability.validation import check_position
 
 # Every advised figure is the least multiple of its step strictly above the exact bound: it suffices.
@@ -47,6 +52,17 @@ class CaseRemedies:
     tyre_ratio: Fraction  # R / (2 (W - R)): the rear tyres must exceed the front's stiffness by this
     lsf_after_ballast: Fraction | None  # with the advised ballast fitted (None: no ballast advised)
     lsf_after_seat_shift: Fraction | None  # with the seats moved by the advised distance
+    layout: Layout = DELTA  # whose limit decides the verdicts after a remedy
+
+    @property
+    def complies_after_ballast(self) -> bool | None:
+        """The verdict with the advised ballast fitted (None: none advised), under the layout's limit."""
+        return None if self.lsf_after_ballast is None else complies(self.lsf_after_ballast, self.layout)
+
+    @property
+    def complies_after_seat_shift(self) -> bool | None:
+        """The verdict with the seats moved (None: not advised), under the layout's limit."""
+        return None if self.lsf_after_seat_shift is None else complies(self.lsf_after_seat_shift, self.layout)
 
     @property
     def fixable_by_ballast(self) -> bool:
@@ -86,17 +102,20 @@ class Remedies:
     seat_shift: Remedy | None
     rear_tyre_ratio: Remedy | None
     cases: tuple[CaseRemedies, ...]
+    layout: Layout = DELTA
 
 
 def excess(case: LoadingCase) -> Fraction:
-    """3R - 2W: how far (kg) the case is from complying; negative when it complies."""
-    return 3 * case.rear_kg - 2 * case.total_kg
+    """(n_f + n_r) R - n_r W (3R - 2W on a delta): how far the case is from complying; < 0 when it does."""
+    layout = case.layout
+    return (layout.n_front + layout.n_rear) * case.rear_kg - layout.n_rear * case.total_kg
 
 
 def ballast_bound(case: LoadingCase, x_m: Fraction, wheelbase_m: Fraction) -> Fraction | None:
     """The ballast mass (kg) at `x_m` the case needs strictly more than; None if no mass can mend it."""
-    denominator = 2 - 3 * x_m / wheelbase_m
-    if denominator <= 0:  # at or behind 2/3 WB the ballast's own share of the rear is 2/3 or more
+    layout = case.layout
+    denominator = layout.n_rear - (layout.n_front + layout.n_rear) * x_m / wheelbase_m
+    if denominator <= 0:  # at or behind limit * WB the ballast's own share of the rear is the limit or more
         return None
     return max(excess(case), Fraction(0)) / denominator
 
@@ -106,12 +125,13 @@ def seat_shift_bound(case: LoadingCase, occupant_mass_kg: Fraction, wheelbase_m:
     passengers = case.occupants - 1  # the driver's seat is always the first and stays
     if passengers < 1:
         return None
-    return max(excess(case), Fraction(0)) * wheelbase_m / (3 * passengers * occupant_mass_kg)
+    tyres = case.layout.n_front + case.layout.n_rear
+    return max(excess(case), Fraction(0)) * wheelbase_m / (tyres * passengers * occupant_mass_kg)
 
 
 def tyre_ratio(case: LoadingCase) -> Fraction:
-    """CaR / CaF at which the case is just stable: R / (2 (W - R)); 1 at exactly LSF 2/3."""
-    return case.rear_kg / (2 * case.front_kg)
+    """CaR / CaF at which the case is just stable: n_f R / (n_r F) (R / 2F on a delta); 1 at the limit."""
+    return case.layout.n_front * case.rear_kg / (case.layout.n_rear * case.front_kg)
 
 
 def lsf_with_ballast(case: LoadingCase, mass_kg: Fraction, x_m: Fraction, wheelbase_m: Fraction) -> Fraction:
@@ -185,6 +205,7 @@ def size_remedies(
             tyre_ratio=tyre_ratio(case),
             lsf_after_ballast=None if fit is None else lsf_with_ballast(case, fit, x_b, wheelbase),
             lsf_after_seat_shift=None if moved is None else lsf_with_seat_shift(case, moved, mass, wheelbase),
+            layout=case.layout,
         )
         for case in cases
     )
@@ -197,12 +218,13 @@ def size_remedies(
         seat_shift=shift,
         rear_tyre_ratio=tyres,
         cases=rows,
+        layout=assessment.layout,
     )
 
 
-def complies(lsf: Fraction) -> bool:
-    """The verdict on an LSF after a remedy: strictly below 2/3."""
-    return lsf < LSF_LIMIT
+def complies(lsf: Fraction, layout: Layout = DELTA) -> bool:
+    """The verdict on an LSF after a remedy: strictly below the layout's limit (2/3 on a delta)."""
+    return lsf < layout.limit
 
 
 @dataclass(frozen=True)

@@ -67,6 +67,7 @@ class CaseSpread:
     occupants: int
     lsfs: tuple[Fraction, ...]
     t: Decimal
+    limit: Fraction = LSF_LIMIT  # the layout's (2/3 for the delta)
 
     @property
     def n(self) -> int:
@@ -108,8 +109,8 @@ class CaseSpread:
 
     @property
     def confident_compliant(self) -> bool:
-        """The upper bound is below 2/3, decided exactly: t s / sqrt(n) < 2/3 - mean."""
-        margin = LSF_LIMIT - self.mean_lsf
+        """The upper bound is below the limit (2/3), decided exactly: t s / sqrt(n) < limit - mean."""
+        margin = self.limit - self.mean_lsf
         if margin <= 0:
             return False
         return Fraction(self.t) ** 2 * self.sample_variance / self.n < margin**2
@@ -157,11 +158,12 @@ def assess_type(members: Sequence[Member]) -> TypeAssessment:
         seats=first.data.seats,
         load_items=first.data.load_items,
         occupant_mass_kg=vehicles[0].occupant_mass_kg,
+        layout=first.data.layout,
     )
     table = assess_averaged(_mean_readings(vehicles), mean_data, first.rules)
     t = t_95(len(members) - 1)
     spread = tuple(
-        CaseSpread(case.occupants, tuple(v.cases[index].lsf for v in vehicles), t)
+        CaseSpread(case.occupants, tuple(v.cases[index].lsf for v in vehicles), t, table.layout.limit)
         for index, case in enumerate(table.cases)
     )
     return TypeAssessment(members=tuple(members), vehicles=vehicles, table=table, spread=spread)
@@ -170,11 +172,11 @@ def assess_type(members: Sequence[Member]) -> TypeAssessment:
 def _mean_readings(vehicles: Sequence[Assessment]) -> AveragedReadings:
     """The mean of each wheel's averaged reading and of each vehicle's weight (overall, else the sum)."""
     n = len(vehicles)
+    layout = vehicles[0].layout
     return AveragedReadings(
-        front_kg=sum((v.readings.front_kg for v in vehicles), Fraction(0)) / n,
-        left_rear_kg=sum((v.readings.left_rear_kg for v in vehicles), Fraction(0)) / n,
-        right_rear_kg=sum((v.readings.right_rear_kg for v in vehicles), Fraction(0)) / n,
+        means={w: sum((v.readings.mean(w) for v in vehicles), Fraction(0)) / n for w in layout.wheels},
         overall_kg=sum((v.readings.total_kg for v in vehicles), Fraction(0)) / n,
+        layout=layout,
     )
 
 
@@ -190,6 +192,7 @@ def _check_one_layout(members: Sequence[Member]) -> None:
                 "assessment averages the empty-vehicle readings, so choose an inspection without them",
             )
     facts = (
+        ("axle layout", lambda m: m.data.layout.name),
         ("seat layout", lambda m: m.data.seats),
         ("wheelbase", lambda m: m.data.wheelbase_m),
         ("load items", lambda m: tuple((i.mass_kg, i.x_m) for i in m.data.load_items)),

@@ -7,14 +7,11 @@ from decimal import Decimal
 from fractions import Fraction
 
 from app.stability.errors import StabilityError
-from app.stability.model import WHEELS, AssessmentInput, Rules, Seat, WheelReadings
+from app.stability.layout import ALL_WHEELS, DELTA, OVERALL, Layout
+from app.stability.layout import WHEEL_WORDS as WHEEL_WORDS
+from app.stability.model import AssessmentInput, Rules, Seat, WheelReadings
 
-WHEEL_WORDS = {
-    "front_kg": "front wheel reaction",
-    "left_rear_kg": "left rear wheel reaction",
-    "right_rear_kg": "right rear wheel reaction",
-    "overall_kg": "overall weight",
-}
+NUMBER_WORDS = {1: "one", 2: "two", 3: "three", 4: "four"}
 
 
 def fmt_kg(value: Fraction | Decimal) -> str:
@@ -52,9 +49,19 @@ def check_number(
         )
 
 
-def check_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "readings") -> None:
-    """Refuse empty, non-positive, absurd or over-long reading lists for every wheel."""
-    for wheel in WHEELS:
+def check_readings(
+    readings: WheelReadings, rules: Rules, *, prefix: str = "readings", layout: Layout = DELTA
+) -> None:
+    """Refuse a wheel the layout lacks, and empty, non-positive, absurd or over-long reading lists."""
+    for wheel in ALL_WHEELS:
+        if wheel not in layout.wheels and readings.values(wheel):
+            raise StabilityError(
+                f"{prefix}.{wheel}",
+                "not_in_layout",
+                f"{prefix}.{wheel}: not a reading of a {layout.name} vehicle ({layout.description}); "
+                f"give {', '.join(layout.wheels)}",
+            )
+    for wheel in (*layout.wheels, OVERALL):
         values = readings.values(wheel)
         field = f"{prefix}.{wheel}"
         if not values and wheel != "overall_kg":
@@ -82,7 +89,7 @@ def check_readings(readings: WheelReadings, rules: Rules, *, prefix: str = "read
 
 
 def check_sum_tolerance(
-    wheel_sum: Fraction, overall: Fraction, rules: Rules, *, prefix: str = "readings"
+    wheel_sum: Fraction, overall: Fraction, rules: Rules, *, prefix: str = "readings", layout: Layout = DELTA
 ) -> None:
     """Refuse readings whose wheel sum disagrees with the overall weight beyond the tolerance."""
     difference = abs(wheel_sum - overall)
@@ -92,7 +99,8 @@ def check_sum_tolerance(
         raise StabilityError(
             f"{prefix}.overall_kg",
             "sum_tolerance",
-            f"The three wheel readings add up to {fmt_kg(wheel_sum)} kg but the overall weight is "
+            f"The {NUMBER_WORDS[len(layout.wheels)]} wheel readings add up to {fmt_kg(wheel_sum)} kg "
+            "but the overall weight is "
             f"{fmt_kg(overall)} kg; the difference ({float(share):.1f} %) is more than the allowed "
             f"{allowed.normalize():f} %. Weigh the vehicle again.",
         )

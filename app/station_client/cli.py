@@ -46,11 +46,16 @@ def cmd_queue(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+WHEEL_ORDER_WORDS = {
+    "delta": "the front wheel, the left rear, the right rear",
+    "tadpole": "the left front wheel, the right front, the rear",
+    "quadricycle": "the left front wheel, the right front, the left rear, the right rear",
+}
+
+
 def cmd_weigh(args: argparse.Namespace) -> int:
     """Read one weighing from the indicator (each wheel in turn) and queue it."""
-    wheels = "the front wheel, the left rear, the right rear" + (
-        ", then the whole vehicle" if args.overall else ""
-    )
+    wheels = WHEEL_ORDER_WORDS[args.layout] + (", then the whole vehicle" if args.overall else "")
     lines = read_lines(
         Path(args.indicator),
         baud=args.baud,
@@ -60,7 +65,9 @@ def cmd_weigh(args: argparse.Namespace) -> int:
         ),
     )
     readings = stable_readings(lines, continuous=args.continuous)
-    weighing = weighing_from_readings(args.registration, readings, repeat=args.repeat, overall=args.overall)
+    weighing = weighing_from_readings(
+        args.registration, readings, repeat=args.repeat, overall=args.overall, layout=args.layout
+    )
     print(f"read {weighing.body['readings']} from {args.indicator}")
     _enqueue(args, [weighing], hint=True)
     return EXIT_OK
@@ -269,6 +276,12 @@ def build_parser() -> argparse.ArgumentParser:
     weigh.add_argument("--registration", required=True, help="the vehicle's registration number")
     weigh.add_argument(
         "--indicator", required=True, help="serial device (/dev/ttyUSB0), pty or file of lines"
+    )
+    weigh.add_argument(
+        "--layout",
+        choices=tuple(WHEEL_ORDER_WORDS),
+        default="delta",
+        help="the vehicle's axle layout, which sets the wheels to weigh and their order (default delta)",
     )
     weigh.add_argument("--repeat", type=int, default=1, help="stable readings per wheel")
     weigh.add_argument("--overall", action="store_true", help="then read the whole vehicle too")

@@ -10,8 +10,29 @@ from decimal import Decimal, InvalidOperation
 from pathlib import Path
 from typing import Any
 
-WHEEL_COLUMNS = ("front_kg", "left_rear_kg", "right_rear_kg")
+# The wheels each axle layout is weighed on, in the order an operator goes round the vehicle (the
+# service's own table is app/stability/layout.py; this program imports nothing of the service).
+LAYOUT_WHEELS: dict[str, tuple[str, ...]] = {
+    "delta": ("front_kg", "left_rear_kg", "right_rear_kg"),
+    "tadpole": ("left_front_kg", "right_front_kg", "rear_kg"),
+    "quadricycle": ("left_front_kg", "right_front_kg", "left_rear_kg", "right_rear_kg"),
+}
+WHEEL_COLUMNS = LAYOUT_WHEELS["delta"]
+ALL_WHEEL_COLUMNS = (
+    "front_kg",
+    "left_front_kg",
+    "right_front_kg",
+    "left_rear_kg",
+    "right_rear_kg",
+    "rear_kg",
+)
 CSV_COLUMNS = ("registration_number", *WHEEL_COLUMNS, "overall_kg", "wheelbase_m")
+CSV_ANY_COLUMNS = ("registration_number", *ALL_WHEEL_COLUMNS, "overall_kg", "wheelbase_m")
+
+
+def _closest_layout(columns: list[str]) -> tuple[str, ...]:
+    """The wheels of the layout the header holds most of (the delta first among equals)."""
+    return max(LAYOUT_WHEELS.values(), key=lambda wheels: sum(w in columns for w in wheels))
 
 
 class SourceError(Exception):
@@ -65,8 +86,8 @@ def read_csv(path: Path) -> list[Weighing]:
     with path.open(newline="", encoding="utf-8-sig") as handle:
         reader = csv.DictReader(handle)
         columns = [c.strip() for c in reader.fieldnames or []]
-        unknown = [c for c in columns if c not in CSV_COLUMNS]
-        missing = [c for c in ("registration_number", *WHEEL_COLUMNS) if c not in columns]
+        unknown = [c for c in columns if c not in CSV_ANY_COLUMNS]
+        missing = [c for c in ("registration_number", *_closest_layout(columns)) if c not in columns]
         if unknown or missing:
             raise SourceError(
                 f"{path}: columns must be {', '.join(CSV_COLUMNS)} (the last two optional); "
@@ -79,7 +100,7 @@ def read_csv(path: Path) -> list[Weighing]:
                 continue
             where = f"{path}:{number}"
             body: dict[str, Any] = {"registration_number": row["registration_number"], "readings": {}}
-            for column in (*WHEEL_COLUMNS, "overall_kg"):
+            for column in (*ALL_WHEEL_COLUMNS, "overall_kg"):
                 if row.get(column):
                     body["readings"][column] = _reading(row[column], where=f"{where} {column}")
             if row.get("wheelbase_m"):

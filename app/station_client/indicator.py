@@ -1,11 +1,12 @@
 """A weighing indicator's serial output: lines like `ST,GS,+  108.0kg` (stable, gross) or
 `US,GS,+  107.5kg` (unstable). Only stable positive weights are readings.
 
-The operator weighs each wheel in turn (front, left rear, right rear, then optionally the whole
-vehicle), pressing PRINT on the indicator for each reading, `repeat` times per wheel. An indicator
-in continuous mode sends a line many times a second: with `continuous`, a run of identical stable
-lines is one reading, and the next reading of the same value needs an unstable or empty-platform
-line in between.
+The operator weighs each wheel in turn (a delta's front, left rear, right rear; a tadpole's left
+front, right front, rear; a quadricycle's left front, right front, left rear, right rear; then
+optionally the whole vehicle), pressing PRINT on the indicator for each reading, `repeat` times per
+wheel. An indicator in continuous mode sends a line many times a second: with `continuous`, a run of
+identical stable lines is one reading, and the next reading of the same value needs an unstable or
+empty-platform line in between.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any
 
-from app.station_client.files import SourceError, Weighing, json_number
+from app.station_client.files import LAYOUT_WHEELS, SourceError, Weighing, json_number
 
 LINE = re.compile(
     r"^\s*(?P<state>ST|US|OL)\s*,\s*(?P<kind>GS|NT|GR)\s*,\s*(?P<sign>[+-])?\s*"
@@ -24,7 +25,7 @@ LINE = re.compile(
     re.IGNORECASE,
 )
 UNIT_KG = {"kg": Decimal(1), "t": Decimal(1000)}
-WHEELS = ("front_kg", "left_rear_kg", "right_rear_kg")
+WHEELS = LAYOUT_WHEELS["delta"]
 
 
 @dataclass(frozen=True)
@@ -61,10 +62,16 @@ def stable_readings(lines: Iterable[str], *, continuous: bool = False) -> Iterat
 
 
 def weighing_from_readings(
-    registration_number: str, readings: Iterator[Decimal], *, repeat: int = 1, overall: bool = False
+    registration_number: str,
+    readings: Iterator[Decimal],
+    *,
+    repeat: int = 1,
+    overall: bool = False,
+    layout: str = "delta",
 ) -> Weighing:
-    """One weighing: `repeat` readings of each wheel in turn, then (with `overall`) the whole vehicle."""
-    wheels = (*WHEELS, "overall_kg") if overall else WHEELS
+    """One weighing: `repeat` readings of each of the layout's wheels in turn, then (with `overall`)
+    the whole vehicle."""
+    wheels = (*LAYOUT_WHEELS[layout], "overall_kg") if overall else LAYOUT_WHEELS[layout]
     body: dict[str, Any] = {"registration_number": registration_number, "readings": {}}
     for wheel in wheels:
         taken = [json_number(kg) for _, kg in zip(range(repeat), readings, strict=False)]

@@ -11,15 +11,19 @@ from decimal import Decimal
 from app.config import get_settings
 from app.errors import InvalidInput, ServiceError
 from app.stability import WheelReadings
-from app.stability.model import WHEELS
+from app.stability.layout import ALL_WHEELS, OVERALL
 from app.stations.on_file import StationOnFile
 
 WHEEL_NAMES = {
     "front_kg": "the front wheel",
     "left_rear_kg": "the left rear wheel",
     "right_rear_kg": "the right rear wheel",
+    "left_front_kg": "the left front wheel",
+    "right_front_kg": "the right front wheel",
+    "rear_kg": "the rear wheel",
     "overall_kg": "the whole vehicle",
 }
+WHEELS = (*ALL_WHEELS, OVERALL)
 
 
 @dataclass(frozen=True)

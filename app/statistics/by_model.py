@@ -10,6 +10,7 @@ from sqlalchemy import func, select
 from sqlalchemy.orm import Session, lazyload
 
 from app.inspections.models import Inspection
+from app.stability import LAYOUT_NAMES
 from app.statistics.service import Period
 from app.type_assessments.models import TypeAssessmentRecord
 from app.vehicles.models import Vehicle
@@ -84,6 +85,47 @@ def model_counts(
         )
     found.sort(key=lambda m: (-m.vehicles, m.make.lower(), m.model.lower()))
     return found[:MAX_MODELS]
+
+
+@dataclass(frozen=True)
+class LayoutCounts:
+    """One axle layout: vehicles inspected in the period, how many complied at their latest weighing."""
+
+    layout: str
+    vehicles: int
+    compliant: int
+
+    @property
+    def compliant_percent(self) -> float:
+        """The share of the vehicles whose latest inspection in the period complied, in per cent."""
+        return 100 * self.compliant / self.vehicles
+
+
+def layout_counts(
+    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
+) -> list[LayoutCounts]:
+    """Per axle layout (delta, tadpole, quadricycle, in that order), the vehicles inspected in the period
+    and how many complied at their latest inspection there (each under its own layout's limit)."""
+    start, end = period.utc_bounds(zone)
+    latest = select(
+        Inspection.layout,
+        Inspection.compliant,
+        func.row_number()
+        .over(
+            partition_by=Inspection.vehicle_id, order_by=(Inspection.created_at.desc(), Inspection.id.desc())
+        )
+        .label("rank"),
+    ).where(Inspection.created_at >= start, Inspection.created_at < end)
+    if station_id is not None:
+        latest = latest.where(Inspection.station_id == station_id)
+    ranked = latest.subquery()
+    rows = session.execute(
+        select(ranked.c.layout, func.count(), func.count().filter(ranked.c.compliant))
+        .where(ranked.c.rank == 1)
+        .group_by(ranked.c.layout)
+    ).all()
+    found = {layout: LayoutCounts(layout, vehicles, compliant or 0) for layout, vehicles, compliant in rows}
+    return [found[name] for name in LAYOUT_NAMES if name in found]
 
 
 def newest_type_assessments(session: Session) -> dict[tuple[str, str], TypeAssessmentRecord]:

@@ -13,7 +13,7 @@ from starlette.responses import Response
 from app.accounts.deps import CurrentLogin
 from app.ids import IdChoice, parse_id
 from app.stations.models import Station
-from app.statistics.by_model import model_counts
+from app.statistics.by_model import layout_counts, model_counts
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics
 from app.web.deps import SessionDep
 from app.web.formatting import local_today, local_zone
@@ -64,6 +64,9 @@ def statistics_page(
     stations = session.scalars(select(Station).order_by(Station.name)).all()
     zone = local_zone() or UTC
     per_model = model_counts(session, period=stats.period, zone=zone, station_id=parse_id(values["station"]))
+    per_layout = layout_counts(
+        session, period=stats.period, zone=zone, station_id=parse_id(values["station"])
+    )
     return render(
         request,
         "statistics/show.html",
@@ -76,6 +79,8 @@ def statistics_page(
             "station_name": next((s.name for s in stations if str(s.id) == values["station"]), None),
             "csv_query": request.url.query,
             "per_model": per_model,
+            # Shown once a vehicle of another layout than the study's delta was inspected.
+            "per_layout": per_layout if any(row.layout != "delta" for row in per_layout) else [],
         },
         status_code=422 if errors else 200,
     )

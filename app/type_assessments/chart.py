@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 
 from markupsafe import Markup
 
@@ -30,13 +31,13 @@ FINE_STEP = 0.01
 FINE_SPAN = 0.12  # a sample this close together gets grid lines 0.01 apart, so its spread shows
 
 
-def zoomed_plot(values: Sequence[float], slots: int) -> Plot:
+def zoomed_plot(values: Sequence[float], slots: int, limit: Fraction = LSF_LIMIT) -> Plot:
     """The scales: to 0.01 around the values and the limit when they lie close, else the usual 0.05."""
-    span = [*values, float(LSF_LIMIT)]
+    span = [*values, float(limit)]
     low = math.floor(round((min(span) - 0.004) / FINE_STEP, 6)) * FINE_STEP
     high = math.ceil(round((max(span) + 0.004) / FINE_STEP, 6)) * FINE_STEP
     if high - low > FINE_SPAN:
-        return plot_for(values, slots)
+        return plot_for(values, slots, limit)
     return Plot(low, high, slots, FINE_STEP)
 
 
@@ -51,7 +52,7 @@ class SpreadPoint:
     confident: bool
 
 
-def describe(cases: Sequence[SpreadPoint]) -> str:
+def describe(cases: Sequence[SpreadPoint], limit: Fraction = LSF_LIMIT) -> str:
     """The chart's text alternative: per case the vehicles' range, the mean, the bound and the verdict."""
     parts = "; ".join(
         f"{occupancy(c.occupants)}: vehicles {min(v for v, _ in c.vehicles):.3f} to "
@@ -61,16 +62,20 @@ def describe(cases: Sequence[SpreadPoint]) -> str:
     )
     return (
         "Lateral Stability Factor of each vehicle per loading case, with the type's mean and one-sided "
-        "95 % upper bound, against the limit of 2/3; a case complies only when its bound is below it. "
+        f"95 % upper bound, against the limit of {limit.numerator}/{limit.denominator}; a case complies "
+        "only when its bound is below it. "
         f"{parts}."
     )
 
 
-def spread_chart(cases: Sequence[SpreadPoint], *, chart_id: str = "type-chart") -> Markup:
-    """The whole SVG element, safe to place in a page."""
+def spread_chart(
+    cases: Sequence[SpreadPoint], *, chart_id: str = "type-chart", limit: Fraction = LSF_LIMIT
+) -> Markup:
+    """The whole SVG element, safe to place in a page, against the layout's limit (2/3 on a delta)."""
     values = [v for c in cases for v, _ in c.vehicles] + [c.upper for c in cases]
-    plot = zoomed_plot(values, len(cases))
-    parts = chart_frame(plot, chart_id=chart_id, title=TITLE, description=describe(cases))
+    plot = zoomed_plot(values, len(cases), limit)
+    title = TITLE.replace("2/3", f"{limit.numerator}/{limit.denominator}")
+    parts = chart_frame(plot, chart_id=chart_id, title=title, description=describe(cases, limit), limit=limit)
     for i, case in enumerate(cases):
         count = len(case.vehicles)
         parts.append(f'<g class="chart__vehicles" data-occupants="{case.occupants}">')

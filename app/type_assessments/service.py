@@ -15,13 +15,31 @@ from app.errors import InvalidInput, NotFound
 from app.inspections.models import Inspection
 from app.inspections.record import quantize
 from app.inspections.service import refusal
-from app.stability import RULES_VERSION, AssessmentInput, LoadItem, MeasuredCase, Rules, Seat, StabilityError
-from app.stability.model import WHEELS, WheelReadings
+from app.stability import (
+    RULES_VERSION,
+    AssessmentInput,
+    Layout,
+    LoadItem,
+    MeasuredCase,
+    Rules,
+    Seat,
+    StabilityError,
+    rules_version,
+)
+from app.stability.layout import ALL_WHEELS, OVERALL, layout_named
+from app.stability.model import WheelReadings
 from app.stability.type_assessment import Member, TypeAssessment, assess_type
 from app.type_assessments.models import TypeAssessmentCase, TypeAssessmentInspection, TypeAssessmentRecord
 from app.vehicles.models import Vehicle
 
 TYPE_RULES_VERSION = f"{RULES_VERSION};type:mean-readings,t95-upper:v1"
+
+
+def type_rules_version(layout: Layout) -> str:
+    """A type assessment's rules: its layout's limit, then the type's method (the delta's as it was)."""
+    return f"{rules_version(layout)};type:mean-readings,t95-upper:v1"
+
+
 CONFIDENCE = Decimal("0.95")
 MAX_VEHICLES = 500  # beyond this, choose the inspections (a bound on one request's work)
 
@@ -124,7 +142,7 @@ def member(inspection: Inspection, rules: Rules) -> Member:
 
     def readings(case: int) -> WheelReadings:
         wheels = values.get(case, {})
-        return WheelReadings(*(tuple(wheels.get(wheel, ())) for wheel in WHEELS))
+        return WheelReadings(**{wheel: tuple(wheels.get(wheel, ())) for wheel in (*ALL_WHEELS, OVERALL)})
 
     config = inspection.occupant_config
     data = AssessmentInput(
@@ -136,6 +154,7 @@ def member(inspection: Inspection, rules: Rules) -> Member:
         ),
         measured_cases=tuple(MeasuredCase(case, readings(case)) for case in sorted(values) if case > 0),
         occupant_mass_kg=inspection.occupant_mass_kg,
+        layout=layout_named(inspection.layout),
     )
     own_rules = replace(
         rules, sum_tolerance=inspection.sum_tolerance, occupant_mass_kg=inspection.occupant_mass_kg
@@ -214,7 +233,7 @@ def _record(
         make=inspections[0].vehicle.make,
         model=inspections[0].vehicle.model,
         model_year=request.model_year,
-        rules_version=TYPE_RULES_VERSION,
+        rules_version=type_rules_version(table.layout),
         occupant_mass_kg=table.occupant_mass_kg,
         wheelbase_m=first.wheelbase_m,
         occupant_config={

@@ -16,6 +16,7 @@ from app.config import get_settings
 from app.errors import ServiceError
 from app.ids import TypeAssessmentId
 from app.inspections.models import Inspection
+from app.stability.model import layout_of_rules
 from app.type_assessments.chart import SpreadPoint, spread_chart
 from app.type_assessments.models import TypeAssessmentRecord
 from app.type_assessments.service import (
@@ -176,7 +177,7 @@ def page_context(record: TypeAssessmentRecord) -> dict[str, Any]:
             [(c.occupants, c.confident_compliant) for c in cases], record.max_compliant_occupants
         ),
         "occupancy": type_occupancy_sentence(record.compliant, record.max_compliant_occupants),
-        "chart": spread_chart(points),
+        "chart": spread_chart(points, limit=layout_of_rules(record.rules_version).limit),
         "active_page": "types",
     }
 

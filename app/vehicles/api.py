@@ -38,6 +38,7 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
     return VehicleOut(
         id=vehicle.id,
         registration_number=vehicle.registration_number,
+        layout=vehicle.layout,
         make=vehicle.make,
         model=vehicle.model,
         model_year=vehicle.model_year,
@@ -82,6 +83,7 @@ def create_vehicle(
         register_vehicle(
             session,
             registration_number=body.registration_number,
+            layout=body.layout,
             make=body.make,
             model=body.model,
             model_year=body.model_year,

@@ -7,6 +7,7 @@ from decimal import Decimal
 
 from starlette.datastructures import FormData
 
+from app.stability import LAYOUT_NAMES
 from app.vehicles.schemas import REGISTRATION_WORDS
 from app.vehicles.service import normalise_registration, valid_key
 from app.web.forms import FormErrors, parse_decimal, readable, text
@@ -15,6 +16,7 @@ PASSENGER_ROWS = 6
 TEXT_LIMITS = {"registration_number": 32, "make": 80, "model": 80, "chassis_number": 64}
 FIELDS = (
     "registration_number",
+    "layout",
     "make",
     "model",
     "model_year",
@@ -43,6 +45,8 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
     """Parse the posted form; blank passenger rows are ignored."""
     errors = FormErrors()
     values = {name: text(form, name, errors, limit=TEXT_LIMITS.get(name, 40)) for name in FIELDS}
+    # The layout is a radio group: its message stands beside the group, whose first button is its id.
+    errors.messages = {("layout-delta" if k == "layout" else k): v for k, v in errors.messages.items()}
     result = VehicleForm(values=values, errors=errors)
     if not values["registration_number"]:
         errors.add("registration_number", "Enter the registration number, like BDG 252 QH")
@@ -58,6 +62,10 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
             errors.add("model_year", "Enter the model year as 4 digits, like 2012, or leave it blank")
         else:
             result.model_year = int(year)
+    if not values["layout"]:
+        values["layout"] = "delta"
+    elif values["layout"] not in LAYOUT_NAMES:
+        errors.add("layout-delta", f"Choose the axle layout: {', '.join(LAYOUT_NAMES)}")
     result.wheelbase_m = parse_decimal(values["wheelbase_m"])
     if result.wheelbase_m is None:
         errors.add("wheelbase_m", "Enter the wheelbase as a number of metres, like 2.000")
@@ -68,6 +76,7 @@ def read_vehicle_form(form: FormData) -> VehicleForm:
         result.seats.append(("driver", driver))
     result.input_for = {"seats": "driver_x_m", "seats[0]": "driver_x_m", "wheelbase_m": "wheelbase_m"}
     result.input_for["registration_number"] = "registration_number"
+    result.input_for["layout"] = "layout-delta"
     for i in range(1, PASSENGER_ROWS + 1):
         name = f"passenger_x_m_{i}"
         if not values[name]:

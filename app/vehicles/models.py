@@ -19,6 +19,7 @@ class Vehicle(Base):
     """A registered tricycle: identity, wheelbase and seat layout."""
 
     __tablename__ = "vehicle"
+    __table_args__ = (CheckConstraint("layout IN ('delta', 'tadpole', 'quadricycle')", name="layout"),)
 
     id: Mapped[int] = mapped_column(primary_key=True)
     registration_number: Mapped[str] = mapped_column(String(32))
@@ -28,6 +29,9 @@ class Vehicle(Base):
     model_year: Mapped[int | None] = mapped_column(Integer)
     chassis_number: Mapped[str | None] = mapped_column(String(64))
     wheelbase_m: Mapped[Decimal] = mapped_column(Numeric(6, 4))
+    # The axle layout (app/stability/layout.py), fixed at registration: a database trigger refuses to
+    # change it, so every inspection of the vehicle was weighed on the same wheels.
+    layout: Mapped[str] = mapped_column(String(16), server_default="delta", default="delta")
     created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
 
     seats: Mapped[list[Seat]] = relationship(

@@ -7,7 +7,7 @@ from decimal import Decimal
 
 from app.dynamics.models import VehicleDynamicsRevision
 from app.dynamics.service import DynamicsFigures, revision_figures
-from app.stability import Seat
+from app.stability import DELTA, Layout, Seat, layout_named
 from app.vehicles.models import Vehicle
 
 
@@ -21,6 +21,7 @@ class VehicleOnFile:
     seats: tuple[Seat, ...]
     figures: DynamicsFigures  # for the estimates; all unknown when none are on file
     figures_revision_id: int | None  # the revision the figures come from (None: none on file)
+    layout: Layout = DELTA  # the axle layout, fixed at registration
 
     @classmethod
     def of(cls, vehicle: Vehicle, revision: VehicleDynamicsRevision | None) -> VehicleOnFile:
@@ -32,4 +33,5 @@ class VehicleOnFile:
             seats=tuple(Seat(s.role, s.x_m) for s in vehicle.seats),  # type: ignore[arg-type]
             figures=revision_figures(revision),
             figures_revision_id=revision.id if revision else None,
+            layout=layout_named(vehicle.layout),
         )

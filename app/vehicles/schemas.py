@@ -88,6 +88,45 @@ VehicleSeatLayout = Annotated[
 ]
 
 
+LAYOUT_DESCRIPTION = (
+    "The axle layout, fixed at registration (a vehicle rebuilt with other axles is registered anew): "
+    "`delta` (one front wheel, two rear; the default), `tadpole` (two front, one rear) or `quadricycle` "
+    "(two front, two rear). It sets the wheels an inspection reads and the limit of the LSF: 2/3, 1/3, 1/2."
+)
+# Like a seat's role: an enumeration, not free text (the text rule's walk of the API skips it).
+LayoutField = Annotated[
+    Literal["delta", "tadpole", "quadricycle"],
+    WithJsonSchema({"enum": ["delta", "tadpole", "quadricycle"], "description": LAYOUT_DESCRIPTION}),
+]
+
+TADPOLE_VEHICLE_EXAMPLE: dict[str, Any] = {
+    "registration_number": "TDP 101 EV",
+    "layout": "tadpole",
+    "make": "Example",
+    "model": "E-Tadpole",
+    "wheelbase_m": 1.9,
+    "seats": [
+        {"role": "driver", "x_m": 0.7},
+        {"role": "passenger", "x_m": 1.35},
+        {"role": "passenger", "x_m": 1.35},
+        {"role": "passenger", "x_m": 1.35},
+    ],
+}
+QUADRICYCLE_VEHICLE_EXAMPLE: dict[str, Any] = {
+    "registration_number": "QDC 202 AA",
+    "layout": "quadricycle",
+    "make": "Bajaj",
+    "model": "Qute",
+    "wheelbase_m": 1.925,
+    "seats": [
+        {"role": "driver", "x_m": 0.95},
+        {"role": "passenger", "x_m": 1.75},
+        {"role": "passenger", "x_m": 1.75},
+        {"role": "passenger", "x_m": 1.75},
+    ],
+}
+
+
 class VehicleIn(VehicleDynamicsIn):
     """A tricycle to register; the figures for the estimates beyond the static test are optional."""
 
@@ -114,12 +153,15 @@ class VehicleIn(VehicleDynamicsIn):
                     "rear_cornering_stiffness_n_per_rad": 8000,
                     "drag_area_m2": 1.6,
                     "centre_of_pressure_height_m": 0.9,
-                }
+                },
+                TADPOLE_VEHICLE_EXAMPLE,
+                QUADRICYCLE_VEHICLE_EXAMPLE,
             ]
         },
     )
 
     registration_number: RegistrationNumber
+    layout: LayoutField = "delta"
     make: Annotated[str, text(80)]
     model: Annotated[str, text(80)]
     model_year: Annotated[int, Field(ge=1950, le=2100), WHOLE_NUMBER] | None = None
@@ -133,6 +175,13 @@ class VehicleOut(BaseModel):
 
     id: int
     registration_number: str
+    layout: Annotated[
+        Literal["delta", "tadpole", "quadricycle"],
+        Field(
+            exclude_if=lambda value: value == "delta",
+            description="The axle layout, fixed at registration; left out for a delta (the default).",
+        ),
+    ] = "delta"
     make: str
     model: str
     model_year: int | None

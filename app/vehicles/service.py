@@ -12,7 +12,7 @@ from sqlalchemy.orm import Session, joinedload
 
 from app.dynamics.service import DynamicsFigures, check_figures, new_revision
 from app.errors import Conflict, InvalidInput, NotFound
-from app.stability import Rules, StabilityError
+from app.stability import Rules, StabilityError, layout_named
 from app.stability import Seat as StabilitySeat
 from app.stability.validation import check_seat_layout, check_wheelbase
 from app.text import TextRefused, check_text, checked, optional_checked, without_refused
@@ -49,10 +49,12 @@ def register_vehicle(
     rules: Rules | None = None,
     on_stored: Callable[[Session, Vehicle], None] | None = None,
     dynamics: DynamicsFigures | None = None,
+    layout: str = "delta",
 ) -> Vehicle:
     """Store a new vehicle with its seat layout; a registration already on file is a conflict.
 
-    Its figures for the estimates (`dynamics`, each optional) become the vehicle's revision 1.
+    Its figures for the estimates (`dynamics`, each optional) become the vehicle's revision 1. Its axle
+    `layout` (delta, tadpole, quadricycle) is fixed for good: a vehicle with other axles is a new one.
 
     `on_stored(session, vehicle)` runs once the vehicle has its id, before the commit, so a caller
     can store a row of its own in the same transaction (the API's idempotency key).
@@ -72,6 +74,10 @@ def register_vehicle(
     chassis_number = optional_checked("chassis_number", chassis_number, max_length=CHASSIS_LENGTH)
     if chassis_number:  # upper case can lengthen a text (ß is SS): the limit holds for what is stored
         chassis_number = checked("chassis_number", chassis_number.upper(), max_length=CHASSIS_LENGTH)
+    try:
+        axles = layout_named(layout)
+    except StabilityError as error:
+        raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
     _check_layout(wheelbase_m, seats, rules)
     dynamics = dynamics or DynamicsFigures()
     check_figures(dynamics, seat_count=len(seats))
@@ -81,6 +87,7 @@ def register_vehicle(
     vehicle = Vehicle(
         registration_number=display_registration(registration_number),
         registration_key=key,
+        layout=axles.name,
         make=make,
         model=model,
         model_year=model_year,

@@ -12,6 +12,7 @@ from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import Conflict, ServiceError
+from app.stability import LAYOUTS
 from app.text import without_refused
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
 from app.vehicles.service import display_registration, find_vehicle, normalise_registration, register_vehicle
@@ -59,7 +60,11 @@ def find_page(
 @router.get("/new")
 def new_vehicle_form(request: Request, login: CurrentLogin) -> Response:
     """The form to register a vehicle and its seat layout."""
-    return render(request, "vehicles/new.html", {"passenger_rows": PASSENGER_ROWS})
+    return render(
+        request,
+        "vehicles/new.html",
+        {"passenger_rows": PASSENGER_ROWS, "layouts": LAYOUTS, "values": {"layout": "delta"}},
+    )
 
 
 @router.post("/new")
@@ -80,6 +85,7 @@ def register(request: Request, session: SessionDep, login: PostLogin, form: Form
                 wheelbase_m=parsed.wheelbase_m,
                 seats=parsed.seats,
                 rules=get_settings().rules(),
+                layout=values["layout"],
             )
         except ServiceError as error:
             if isinstance(error, Conflict):
@@ -93,6 +99,7 @@ def register(request: Request, session: SessionDep, login: PostLogin, form: Form
         "vehicles/new.html",
         {
             "passenger_rows": PASSENGER_ROWS,
+            "layouts": LAYOUTS,
             "values": parsed.values,
             "errors": parsed.errors.messages,
             "conflict_key": conflict_key,

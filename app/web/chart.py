@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 
 from markupsafe import Markup, escape
 
@@ -43,10 +44,11 @@ def short_label(occupants: int) -> str:
     return {0: "Empty", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
 
 
-def y_range(values: Sequence[float]) -> tuple[float, float]:
-    """The y axis: about 0.5 to 0.8, widened in steps of 0.05 to hold every point."""
-    low = min([0.5, *(v - 0.02 for v in values)])
-    high = max([0.8, *(v + 0.02 for v in values)])
+def y_range(values: Sequence[float], limit: Fraction = LSF_LIMIT) -> tuple[float, float]:
+    """The y axis: about 0.5 to 0.8 around the delta's 2/3 (0.15 to 0.5 around a tadpole's 1/3),
+    widened in steps of 0.05 to hold every point."""
+    low = min([float(limit - Fraction(1, 6)), *(v - 0.02 for v in values)])
+    high = max([float(limit + Fraction(2, 15)), *(v + 0.02 for v in values)])
     return math.floor(round(low / STEP, 6)) * STEP, math.ceil(round(high / STEP, 6)) * STEP
 
 
@@ -84,15 +86,27 @@ def case_list(points: Sequence[ChartPoint]) -> str:
     )
 
 
-INTRODUCTION = (
-    f"Lateral Stability Factor for each loading case against the limit of 2/3 ({LIMIT_TEXT}); "
-    "a case above the line is unstable."
-)
+def introduction(limit: Fraction = LSF_LIMIT) -> str:
+    """The opening of a chart's text alternative: what it shows, against which limit."""
+    return (
+        f"Lateral Stability Factor for each loading case against the limit of "
+        f"{limit.numerator}/{limit.denominator} ({float(limit):.3f}); a case above the line is unstable."
+    )
 
 
-def describe(points: Sequence[ChartPoint]) -> str:
+INTRODUCTION = introduction()
+
+
+def title_for(limit: Fraction = LSF_LIMIT) -> str:
+    """The chart's title, naming the limit of the vehicle's layout."""
+    return (
+        f"Lateral Stability Factor per loading case, against the {limit.numerator}/{limit.denominator} limit"
+    )
+
+
+def describe(points: Sequence[ChartPoint], limit: Fraction = LSF_LIMIT) -> str:
     """The chart's text alternative: every case's LSF and verdict, and the limit."""
-    return f"{INTRODUCTION} {case_list(points)}."
+    return f"{introduction(limit)} {case_list(points)}."
 
 
 @dataclass(frozen=True)
@@ -123,9 +137,9 @@ class Plot:
         return LEFT + (index + 0.5) * self.width / max(self.slots, 1)
 
 
-def plot_for(values: Sequence[float], slots: int) -> Plot:
-    """The scales that hold every value, in `slots` loading cases."""
-    low, high = y_range(values)
+def plot_for(values: Sequence[float], slots: int, limit: Fraction = LSF_LIMIT) -> Plot:
+    """The scales that hold every value and the limit, in `slots` loading cases."""
+    low, high = y_range(values, limit)
     return Plot(low, high, slots)
 
 
@@ -143,9 +157,11 @@ def _frame(x: float, y: float, w: float, h: float) -> str:
     return f'<rect x="{x}" y="{y}" width="{w}" height="{h}" fill="none" stroke="#505a5f"/>'
 
 
-def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> list[str]:
-    """The opening of the SVG: title and text alternative, the unstable region, grid, 2/3 line, border."""
-    limit_y = plot.y_of(LIMIT)
+def chart_frame(
+    plot: Plot, *, chart_id: str, title: str, description: str, limit: Fraction = LSF_LIMIT
+) -> list[str]:
+    """The opening of the SVG: title and text alternative, the unstable region, grid, limit line, border."""
+    limit_y = plot.y_of(float(limit))
     plot_w, plot_h = plot.width, plot.height
     parts = [
         _opening(chart_id, title, description),
@@ -164,7 +180,8 @@ def chart_frame(plot: Plot, *, chart_id: str, title: str, description: str) -> l
         f'<line class="chart__limit" x1="{LEFT}" x2="{LEFT + plot_w}" y1="{limit_y:.1f}" y2="{limit_y:.1f}" '
         'stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
-    parts.append(_text(LEFT + plot_w + 6, limit_y + 6, "limit 2/3", anchor="start", cls="chart__limit-label"))
+    label = f"limit {limit.numerator}/{limit.denominator}"
+    parts.append(_text(LEFT + plot_w + 6, limit_y + 6, label, anchor="start", cls="chart__limit-label"))
     parts.append(_frame(LEFT, TOP, plot_w, plot_h))
     return parts
 
@@ -233,24 +250,34 @@ def _markup(parts: Sequence[str]) -> Markup:
     return Markup("".join(parts))  # noqa: S704
 
 
-def lsf_chart(points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart") -> Markup:
-    """The whole SVG element, safe to place in a page."""
-    plot = plot_for([p.lsf for p in points], len(points))
-    parts = chart_frame(plot, chart_id=chart_id, title=TITLE, description=describe(points))
+def lsf_chart(
+    points: Sequence[ChartPoint], *, chart_id: str = "lsf-chart", limit: Fraction = LSF_LIMIT
+) -> Markup:
+    """The whole SVG element, safe to place in a page, with the limit of the vehicle's layout."""
+    plot = plot_for([p.lsf for p in points], len(points), limit)
+    title, description = title_for(limit), describe(points, limit)
+    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description, limit=limit)
     parts += series(plot, points)
     parts += [case_axis_label(plot, i, point.short_label) for i, point in enumerate(points)]
     return _markup([*parts, *chart_close(plot)])
 
 
 def before_after_chart(
-    before: Sequence[ChartPoint], after: Sequence[ChartPoint], *, remedy: str, chart_id: str = "remedy-chart"
+    before: Sequence[ChartPoint],
+    after: Sequence[ChartPoint],
+    *,
+    remedy: str,
+    chart_id: str = "remedy-chart",
+    limit: Fraction = LSF_LIMIT,
 ) -> Markup:
     """Each case's LSF today (hollow, dashed) and after `remedy` (marked C or NC), on one scale."""
-    plot = plot_for([p.lsf for p in [*before, *after]], len(before))
-    title = f"LSF per loading case today and {remedy}, against the 2/3 limit"
+    plot = plot_for([p.lsf for p in [*before, *after]], len(before), limit)
+    title = (
+        f"LSF per loading case today and {remedy}, against the {limit.numerator}/{limit.denominator} limit"
+    )
     after_words = f"{remedy[:1].upper()}{remedy[1:]}: {case_list(after)}"
-    description = f"{INTRODUCTION} Today: {case_list(before)}. {after_words}."
-    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description)
+    description = f"{introduction(limit)} Today: {case_list(before)}. {after_words}."
+    parts = chart_frame(plot, chart_id=chart_id, title=title, description=description, limit=limit)
     parts += series(plot, before, shift=-0.08, muted=True, name="before")
     parts += series(plot, after, shift=0.08, name="after")
     parts += [case_axis_label(plot, i, point.short_label) for i, point in enumerate(before)]

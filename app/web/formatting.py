@@ -12,7 +12,7 @@ from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 from markupsafe import Markup, escape
 
 from app.config import get_settings
-from app.stability import LSF_LIMIT
+from app.stability import LAYOUTS, LSF_LIMIT
 
 
 def fixed(value: Decimal | Fraction | float, places: int) -> str:
@@ -77,9 +77,15 @@ def plates_kept(details: str) -> Markup:
     return shown
 
 
-def limit_text() -> str:
-    """The standard as the study prints it: 2/3 (0.667)."""
-    return f"{LSF_LIMIT.numerator}/{LSF_LIMIT.denominator} ({ratio(LSF_LIMIT)})"
+def limit_text(layout: str = "delta") -> str:
+    """The standard as the study prints it: 2/3 (0.667) for the delta, 1/3 (0.333) for a tadpole."""
+    limit = LAYOUTS[layout].limit if layout in LAYOUTS else LSF_LIMIT
+    return f"{limit.numerator}/{limit.denominator} ({ratio(limit)})"
+
+
+def layout_title(layout: str) -> str:
+    """A layout's name for a person: "Tadpole (two front wheels and one rear wheel)"."""
+    return LAYOUTS[layout].title
 
 
 @lru_cache

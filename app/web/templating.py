@@ -13,7 +13,15 @@ from starlette.templating import Jinja2Templates
 
 from app.config import get_settings
 from app.web import formatting
-from app.wording import case_name, verdict_mark
+from app.wording import (
+    case_name,
+    chart_caption,
+    layout_of,
+    rear_weight_heading,
+    variance_note,
+    verdict_mark,
+    wheel_rows,
+)
 
 TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
 SERVICE_NAME = "Keke stability certification"
@@ -36,12 +44,18 @@ _env.filters.update(
     unbroken=formatting.unbroken,
     plates_kept=formatting.plates_kept,
     or_not_recorded=formatting.or_not_recorded,
+    layout_title=formatting.layout_title,
 )
 _env.globals.update(
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
     case_name=case_name,
     verdict_mark=verdict_mark,
+    rear_weight_heading=rear_weight_heading,
+    variance_note=variance_note,
+    chart_caption=chart_caption,
+    wheel_rows=wheel_rows,
+    layout_of=layout_of,
     not_recorded=formatting.NOT_RECORDED,
 )
 templates = Jinja2Templates(env=_env)

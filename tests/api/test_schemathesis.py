@@ -170,7 +170,9 @@ def _sum_disagrees(readings: dict[str, Any]) -> bool:
     overall = readings.get("overall_kg")
     if overall is None:
         return False
-    wheels = sum(_mean(readings[wheel]) for wheel in ("front_kg", "left_rear_kg", "right_rear_kg"))
+    wheels = sum(
+        _mean(value) for wheel, value in readings.items() if wheel != "overall_kg" and value is not None
+    )
     return abs(wheels - _mean(overall)) > Fraction(RULES.sum_tolerance) * _mean(overall)
 
 
@@ -191,6 +193,8 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
     JSON Schema constrains each value on its own. These domain rules relate several values, so a
     request can satisfy the schema and still be refused (422), and the refusal is right:
     - the wheel sum against the overall weight (sum_tolerance, recomputed here);
+    - the wheels read against the vehicle's axle layout (missing, extra_forbidden: the study vehicle is
+      a delta);
     - a seat or load position against the wheelbase, which may come from the body or the vehicle
       (range on an `x_m`, recomputed here);
     - a measured case against the number of seats (range on measured_cases[i].occupants,
@@ -204,6 +208,11 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
       height given (one_of), each recomputed here.
     """
     field, rule = problem.get("field", ""), problem.get("rule", "")
+    if rule in ("missing", "extra_forbidden") and field.split(".")[-2:-1] == ["readings"]:
+        # The vehicle's axle layout decides its wheels; the study vehicle is a delta.
+        readings = _at(body, field.rsplit(".", 1)[0])
+        given = {wheel for wheel, value in readings.items() if wheel != "overall_kg" and value is not None}
+        return given != {"front_kg", "left_rear_kg", "right_rear_kg"}
     if rule == "sum_tolerance":
         return _sum_disagrees(_at(body, field.removesuffix(".overall_kg")))
     if rule == "range" and field.endswith("x_m"):

@@ -156,7 +156,7 @@ def test_every_queued_weighing_is_stored_exactly_once_across_an_outage_and_a_cli
     assert [row[2] for row in rows] == ["delivered"] * WEIGHINGS
     stored = set(session.scalars(select(Inspection.id)))
     assert {row[3] for row in rows} == stored, "each queued weighing is its own stored inspection"
-    fronts = sorted(float(i.front_kg) for i in session.scalars(select(Inspection)))
+    fronts = sorted(float(i.front_kg or 0) for i in session.scalars(select(Inspection)))
     assert fronts == [108 + i * 0.5 for i in range(WEIGHINGS)]
     assert f"{WEIGHINGS} delivered, 0 rejected, 0 pending" in report.stdout
     assert report.returncode == 0

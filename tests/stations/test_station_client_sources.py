@@ -165,3 +165,43 @@ def test_weigh_reads_a_live_serial_line_and_queues_the_weighing(tmp_path: Path) 
     }
     assert "queued 1 weighing" in out
     assert "nothing is sent yet; send with: trikecert-station send" in out
+
+
+def test_the_indicator_reads_each_layout_s_wheels_in_the_order_round_the_vehicle() -> None:
+    from decimal import Decimal
+
+    from app.station_client.indicator import weighing_from_readings
+
+    readings = iter(Decimal(v) for v in ("186", "182", "112", "480"))
+    tadpole = weighing_from_readings("TDP 101 EV", readings, overall=True, layout="tadpole")
+    assert list(tadpole.body["readings"].items()) == [
+        ("left_front_kg", 186),
+        ("right_front_kg", 182),
+        ("rear_kg", 112),
+        ("overall_kg", 480),
+    ]
+    readings = iter(Decimal(v) for v in ("150", "148", "140", "143"))
+    quadricycle = weighing_from_readings("QDC 202 AA", readings, layout="quadricycle")
+    assert list(quadricycle.body["readings"]) == [
+        "left_front_kg",
+        "right_front_kg",
+        "left_rear_kg",
+        "right_rear_kg",
+    ]
+
+
+def test_a_csv_of_tadpoles_is_read_and_a_half_layout_names_what_is_missing(tmp_path: Path) -> None:
+    path = tmp_path / "weighings.csv"
+    path.write_text(
+        "registration_number,left_front_kg,right_front_kg,rear_kg,overall_kg\nTDP 101 EV,186,182,112,480\n"
+    )
+    [weighing] = read_file(path)
+    assert weighing.body["readings"] == {
+        "left_front_kg": 186,
+        "right_front_kg": 182,
+        "rear_kg": 112,
+        "overall_kg": 480,
+    }
+    path.write_text("registration_number,left_front_kg,right_front_kg\nTDP 101 EV,186,182\n")
+    with pytest.raises(SourceError, match="missing: rear_kg"):
+        read_file(path)
