@@ -17,7 +17,7 @@ loosens constraints only and leaves every stored byte as it is, which SQLite doc
 by editing the schema text (PRAGMA writable_schema, with the schema version bumped).
 
 Revision ID: c28a0e000003
-Revises: c27b2e000002
+Revises: c27d3e000003
 Create Date: 2026-12-03 19:00:00
 """
 
@@ -27,7 +27,7 @@ import sqlalchemy as sa
 from alembic import op
 
 revision: str = "c28a0e000003"
-down_revision: str | None = "c27b2e000002"
+down_revision: str | None = "c27d3e000003"
 branch_labels: str | Sequence[str] | None = None
 depends_on: str | Sequence[str] | None = None
 
