@@ -1,4 +1,4 @@
-"""trikecert: lateral stability certification of delta tricycle taxis."""
+"""trikecert: lateral stability certification of keke, tadpole trikes and quadricycles."""
 
 from importlib.metadata import PackageNotFoundError, version
 

@@ -27,13 +27,15 @@ from app.web.headers import install_security_headers
 from app.web.setup import install_web
 
 DESCRIPTION = """\
-Lateral stability certification of delta tricycle taxis (keke).
+Lateral stability certification of three- and four-wheeled taxis: the delta keke (one front wheel,
+two rear), the tadpole trike (two front, one rear) and the quadricycle (two and two).
 
-A weighbridge station registers a vehicle, then submits the wheel readings of one weighing.
-The answer is the study's Table 4: for every loading case (empty, driver, driver + 1, 2, 3
-passengers) the total weight, the weight on the rear wheels, the Lateral Stability Factor
-(LSF = rear / total), the variance 2/3 - LSF and the verdict. A case complies only if
-LSF < 2/3, decided in exact arithmetic.
+A weighbridge station registers a vehicle with its axle layout, then submits the wheel readings of
+one weighing. The answer is the study's Table 4: for every loading case (empty, driver, driver +
+1, 2, 3 passengers) the total weight, the weight on the rear wheel(s), the Lateral Stability Factor
+(LSF = rear / total), the variance (limit - LSF) and the verdict. The limit is the rear wheels'
+share of the tyres: 2/3 for the delta, 1/3 for the tadpole, 1/2 for the quadricycle. A case
+complies only if its LSF is below the limit, decided in exact arithmetic.
 
 Every call needs `Authorization: Bearer <station key>`, except the public
 `GET /api/v1/verify/{number}`. Errors are JSON

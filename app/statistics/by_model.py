@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import tzinfo
+from typing import Any
 
-from sqlalchemy import func, select
-from sqlalchemy.orm import Session, lazyload
+from sqlalchemy import Subquery, func, select
+from sqlalchemy.orm import InstrumentedAttribute, Session, lazyload
 
 from app.inspections.models import Inspection
 from app.stability import LAYOUT_NAMES
@@ -40,14 +41,14 @@ def _key(text: str) -> str:
     return text.strip().lower()
 
 
-def model_counts(
-    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
-) -> list[ModelCounts]:
-    """Per make and model (case and spaces ignored), the vehicles inspected in the period and the share
-    whose latest inspection there complied, most vehicles first, with the model's newest type assessment."""
+def _latest_per_vehicle(
+    column: InstrumentedAttribute[Any], *, period: Period, zone: tzinfo, station_id: int | None
+) -> Subquery:
+    """Each inspection of the period (at one station, if given) with `column`, its verdict and its rank
+    among its vehicle's inspections there, newest first: rank 1 is the vehicle's latest."""
     start, end = period.utc_bounds(zone)
     latest = select(
-        Inspection.vehicle_id,
+        column,
         Inspection.compliant,
         func.row_number()
         .over(
@@ -57,7 +58,15 @@ def model_counts(
     ).where(Inspection.created_at >= start, Inspection.created_at < end)
     if station_id is not None:
         latest = latest.where(Inspection.station_id == station_id)
-    ranked = latest.subquery()
+    return latest.subquery()
+
+
+def model_counts(
+    session: Session, *, period: Period, zone: tzinfo, station_id: int | None = None
+) -> list[ModelCounts]:
+    """Per make and model (case and spaces ignored), the vehicles inspected in the period and the share
+    whose latest inspection there complied, most vehicles first, with the model's newest type assessment."""
+    ranked = _latest_per_vehicle(Inspection.vehicle_id, period=period, zone=zone, station_id=station_id)
     rows = session.execute(
         select(Vehicle.make, Vehicle.model, ranked.c.compliant)
         .join(ranked, ranked.c.vehicle_id == Vehicle.id)
@@ -106,19 +115,7 @@ def layout_counts(
 ) -> list[LayoutCounts]:
     """Per axle layout (delta, tadpole, quadricycle, in that order), the vehicles inspected in the period
     and how many complied at their latest inspection there (each under its own layout's limit)."""
-    start, end = period.utc_bounds(zone)
-    latest = select(
-        Inspection.layout,
-        Inspection.compliant,
-        func.row_number()
-        .over(
-            partition_by=Inspection.vehicle_id, order_by=(Inspection.created_at.desc(), Inspection.id.desc())
-        )
-        .label("rank"),
-    ).where(Inspection.created_at >= start, Inspection.created_at < end)
-    if station_id is not None:
-        latest = latest.where(Inspection.station_id == station_id)
-    ranked = latest.subquery()
+    ranked = _latest_per_vehicle(Inspection.layout, period=period, zone=zone, station_id=station_id)
     rows = session.execute(
         select(ranked.c.layout, func.count(), func.count().filter(ranked.c.compliant))
         .where(ranked.c.rank == 1)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from datetime import UTC, date, datetime
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 from urllib.parse import unquote
 
 from app.trust.bundle import BundleProblem, BundleRefused, TrustBundle, read_payload
@@ -52,22 +52,7 @@ Code = Literal[
     "refusal",
     "certified",
 ]
-CODES: tuple[Code, ...] = (
-    "not_ours",
-    "check_online",
-    "no_bundle",
-    "clock_behind",
-    "stale",
-    "damaged",
-    "unknown_key",
-    "compromised",
-    "not_genuine",
-    "revoked",
-    "superseded",
-    "expired",
-    "refusal",
-    "certified",
-)
+CODES: tuple[Code, ...] = get_args(Code)
 BUNDLE_CODES: tuple[BundleProblem, ...] = (
     "bundle_unreadable",
     "bundle_bad_signature",

@@ -15,9 +15,14 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any
 from urllib.parse import parse_qs
 
+import pytest
 from aiosmtpd.controller import Controller
 from aiosmtpd.smtp import SMTP, Envelope, Session
 from served import free_port
+
+from app import config
+from app.gateway.africastalking import AfricasTalkingSender
+from app.notifications.worker import Sender, SmtpSender
 
 
 @dataclass
@@ -150,3 +155,33 @@ def send_api() -> Iterator[tuple[str, Gateway]]:
     finally:
         server.shutdown()
         server.server_close()
+
+
+@contextmanager
+def outside_services(monkeypatch: pytest.MonkeyPatch, **settings: str) -> Iterator[tuple[Mailbox, Gateway]]:
+    """The mail server and the SMS gateway, running, and the settings pointing at them (and `settings`)."""
+    with smtp_server() as (smtp_url, mailbox), send_api() as (base, gateway):
+        environment = {
+            "TRIKECERT_SMTP_URL": smtp_url,
+            "TRIKECERT_AFRICASTALKING_BASE_URL": base,
+            "TRIKECERT_AFRICASTALKING_API_KEY": "at-test-key",
+            "TRIKECERT_NOTIFY_TIMEOUT_SECONDS": "1",
+            **settings,
+        }
+        for name, value in environment.items():
+            monkeypatch.setenv(name, value)
+        config.get_settings.cache_clear()
+        try:
+            yield mailbox, gateway
+        finally:
+            config.get_settings.cache_clear()
+
+
+def senders(smtp_timeout: float) -> dict[str, Sender]:
+    """The worker's senders, by channel, for the settings in force."""
+    settings = config.get_settings()
+    assert settings.smtp_url is not None
+    return {
+        "email": SmtpSender(settings.smtp_url.get_secret_value(), settings.mail_from, smtp_timeout),
+        "sms": AfricasTalkingSender(settings),
+    }

@@ -21,12 +21,11 @@ from sqlalchemy.orm import Session
 
 from app import config
 from app.db import get_sessionmaker, utcnow
-from app.gateway.africastalking import AfricasTalkingSender
 from app.notifications.messages import Text
 from app.notifications.models import NotificationDay, OutboxMessage
 from app.notifications.service import enqueue
-from app.notifications.worker import Pass, Sender, SmtpSender, claim, run_once
-from notifications.servers import Gateway, Mailbox, send_api, smtp_server
+from app.notifications.worker import Pass, claim, run_once
+from notifications.servers import Gateway, Mailbox, outside_services, senders
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -34,24 +33,8 @@ REPO = Path(__file__).resolve().parents[2]
 @pytest.fixture
 def outside(monkeypatch: pytest.MonkeyPatch, engine: object) -> Iterator[tuple[Mailbox, Gateway]]:
     """The mail server and the SMS gateway, running, and the settings pointing at them."""
-    with smtp_server() as (smtp_url, mailbox), send_api() as (base, gateway):
-        monkeypatch.setenv("TRIKECERT_SMTP_URL", smtp_url)
-        monkeypatch.setenv("TRIKECERT_AFRICASTALKING_BASE_URL", base)
-        monkeypatch.setenv("TRIKECERT_AFRICASTALKING_API_KEY", "at-test-key")
-        monkeypatch.setenv("TRIKECERT_NOTIFY_TIMEOUT_SECONDS", "1")
-        monkeypatch.setenv("TRIKECERT_NOTIFY_INTERVAL_SECONDS", "0.2")
-        config.get_settings.cache_clear()
-        yield mailbox, gateway
-    config.get_settings.cache_clear()
-
-
-def senders() -> dict[str, Sender]:
-    settings = config.get_settings()
-    assert settings.smtp_url is not None
-    return {
-        "email": SmtpSender(settings.smtp_url.get_secret_value(), settings.mail_from, 1),
-        "sms": AfricasTalkingSender(settings),
-    }
+    with outside_services(monkeypatch, TRIKECERT_NOTIFY_INTERVAL_SECONDS="0.2") as running:
+        yield running
 
 
 def queue(session: Session, count: int, channel: str = "sms") -> list[int]:
@@ -92,7 +75,7 @@ def test_500_timeout_and_a_dropped_connection_are_tried_again_with_backoff(
         results.append(
             run_once(
                 get_sessionmaker(),
-                senders(),
+                senders(1),
                 config.get_settings(),
                 now=lambda w=wait: start + timedelta(seconds=w),  # type: ignore[misc]
             )
@@ -108,10 +91,10 @@ def test_500_timeout_and_a_dropped_connection_are_tried_again_with_backoff(
     # Not before its backoff: a pass 10 seconds after a failure leaves it waiting.
     gateway.modes = ["500"]
     [later] = queue(session, 1)
-    run_once(get_sessionmaker(), senders(), config.get_settings(), now=lambda: start)
+    run_once(get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start)
     assert (
         run_once(
-            get_sessionmaker(), senders(), config.get_settings(), now=lambda: start + timedelta(seconds=10)
+            get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start + timedelta(seconds=10)
         ).sent
         == 0
     )
@@ -126,7 +109,7 @@ def test_a_permanent_refusal_and_too_many_failures_are_recorded_as_failed(
     mailbox.refuse = ["550 5.1.1 no such mailbox"]
     [sms_id] = queue(session, 1)
     [email_id] = queue(session, 1, channel="email")
-    done = run_once(get_sessionmaker(), senders(), config.get_settings())
+    done = run_once(get_sessionmaker(), senders(1), config.get_settings())
     assert done.failed == 2
     for message_id in (sms_id, email_id):
         failed = row(session, message_id)
@@ -138,8 +121,8 @@ def test_a_permanent_refusal_and_too_many_failures_are_recorded_as_failed(
     gateway.modes = ["500", "500"]
     [tired] = queue(session, 1)
     start = utcnow()
-    run_once(get_sessionmaker(), senders(), config.get_settings(), now=lambda: start)
-    run_once(get_sessionmaker(), senders(), config.get_settings(), now=lambda: start + timedelta(minutes=1))
+    run_once(get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start)
+    run_once(get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start + timedelta(minutes=1))
     assert row(session, tired).failed_at is not None
     counts = {r.what: r.count for r in session.scalars(select(NotificationDay))}
     assert counts["failed"] == 3
@@ -155,10 +138,10 @@ def test_a_mail_server_that_refuses_for_now_or_is_down_is_tried_again(
     mailbox.refuse = ["451 4.3.0 try again later"]
     [message_id] = queue(session, 1, channel="email")
     start = utcnow()
-    assert run_once(get_sessionmaker(), senders(), config.get_settings(), now=lambda: start).retried == 1
+    assert run_once(get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start).retried == 1
     assert (
         run_once(
-            get_sessionmaker(), senders(), config.get_settings(), now=lambda: start + timedelta(minutes=1)
+            get_sessionmaker(), senders(1), config.get_settings(), now=lambda: start + timedelta(minutes=1)
         ).sent
         == 1
     )
@@ -166,7 +149,7 @@ def test_a_mail_server_that_refuses_for_now_or_is_down_is_tried_again(
     monkeypatch.setenv("TRIKECERT_SMTP_URL", f"smtp://127.0.0.1:{free_port()}")
     config.get_settings.cache_clear()
     [down] = queue(session, 1, channel="email")
-    assert run_once(get_sessionmaker(), senders(), config.get_settings()).retried == 1
+    assert run_once(get_sessionmaker(), senders(1), config.get_settings()).retried == 1
     assert row(session, down).sent_at is None
     assert row(session, down).recipient is not None
     assert "Traceback" not in caplog.text

@@ -14,13 +14,12 @@ from sqlalchemy.orm import Session
 
 from app import config
 from app.db import get_sessionmaker, utcnow
-from app.gateway.africastalking import AfricasTalkingSender
 from app.notifications.models import NotificationDay, OutboxMessage, Subscription
 from app.notifications.sms_text import fits_sms
-from app.notifications.worker import Pass, Sender, SmtpSender, run_once
+from app.notifications.worker import Pass, run_once
 from app.trust.numbers import parse_number
 from notifications.phone_helpers import PHONE, SMS, certify, weigh
-from notifications.servers import Gateway, Mailbox, send_api, smtp_server
+from notifications.servers import Gateway, Mailbox, outside_services, senders
 
 EMAIL = "Ada.Obi@Example.NG"
 
@@ -28,29 +27,13 @@ EMAIL = "Ada.Obi@Example.NG"
 @pytest.fixture
 def outside(monkeypatch: pytest.MonkeyPatch, gateway_on: None) -> Iterator[tuple[Mailbox, Gateway]]:
     """The mail server and the SMS gateway, running, and the settings pointing at them."""
-    with smtp_server() as (smtp_url, mailbox), send_api() as (base, gateway):
-        monkeypatch.setenv("TRIKECERT_SMTP_URL", smtp_url)
-        monkeypatch.setenv("TRIKECERT_AFRICASTALKING_BASE_URL", base)
-        monkeypatch.setenv("TRIKECERT_AFRICASTALKING_API_KEY", "at-test-key")
-        monkeypatch.setenv("TRIKECERT_AFRICASTALKING_SENDER", "TRIKECERT")
-        monkeypatch.setenv("TRIKECERT_NOTIFY_TIMEOUT_SECONDS", "1")
-        config.get_settings.cache_clear()
-        yield mailbox, gateway
-    config.get_settings.cache_clear()
-
-
-def senders() -> dict[str, Sender]:
-    settings = config.get_settings()
-    assert settings.smtp_url is not None
-    return {
-        "email": SmtpSender(settings.smtp_url.get_secret_value(), settings.mail_from, 2),
-        "sms": AfricasTalkingSender(settings),
-    }
+    with outside_services(monkeypatch, TRIKECERT_AFRICASTALKING_SENDER="TRIKECERT") as running:
+        yield running
 
 
 def worker_pass(at: datetime) -> Pass:
     """One pass of the worker with its clock at `at`."""
-    return run_once(get_sessionmaker(), senders(), config.get_settings(), now=lambda: at)
+    return run_once(get_sessionmaker(), senders(2), config.get_settings(), now=lambda: at)
 
 
 def sms_in(client: TestClient, text: str, message_id: str) -> None:
