@@ -15,6 +15,7 @@ from decimal import Decimal, InvalidOperation
 
 from pydantic import ValidationError
 
+import app.models  # noqa: F401  (every table and the audit recorder: a command writes records too)
 from app import __version__
 from app.audit.recorder import acting_from_command_line
 from app.certificates.cli import add_certificate_commands
