@@ -53,7 +53,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     service's record is read too.
     """
     from app.certificates.records import verify_base
-    from app.certificates.wording import in_force, status_meaning
+    from app.certificates.wording import in_force, status_meaning, until_sentence
     from app.trust.signing import PayloadRefused, verify_input
     from app.web.formatting import long_date
     from app.wording import document_kind, occupancy_sentence
@@ -71,10 +71,11 @@ def cmd_verify(args: argparse.Namespace) -> int:
     status, details = online if online is not None else (offline_status(claims), [])
     print(f"GENUINE: signed by key {verified.kid}")
     print(f"status: {status} ({status_meaning(status)})")
-    kind = document_kind("compliant" if claims.verdict == "C" else "refusal")
+    kind_code = "compliant" if claims.verdict == "C" else "refusal"
+    kind = document_kind(kind_code)
     print(f"{kind} {claims.number} for {claims.registration}")
     print(occupancy_sentence(claims.verdict == "C", claims.max_occupants))
-    print(f"issued {long_date(claims.issued)}, valid until {long_date(claims.expires)}")
+    print(f"issued {long_date(claims.issued)}. {until_sentence(kind_code, long_date(claims.expires))}")
     if claims.issuer is not None:
         print(f"issuer: {claims.issuer}")
     for line in details:
@@ -129,6 +130,7 @@ def verify_offline(args: argparse.Namespace) -> int:
     """
     import time
 
+    from app.certificates.wording import until_sentence
     from app.trust.bundle import BundleRefused
     from app.trust.offline import checked_against, decide, offline_words
     from app.web.formatting import long_date
@@ -159,7 +161,9 @@ def verify_offline(args: argparse.Namespace) -> int:
         if verdict.compliant is not None and verdict.max_occupants is not None:
             print(occupancy_sentence(verdict.compliant, verdict.max_occupants))
         if verdict.issued is not None and verdict.expires is not None:
-            print(f"issued {long_date(verdict.issued)}, valid until {long_date(verdict.expires)}")
+            kind_code = "compliant" if verdict.compliant else "refusal"
+            until = until_sentence(kind_code, long_date(verdict.expires))
+            print(f"issued {long_date(verdict.issued)}. {until}")
     if verdict.list_made_at is not None:
         print(checked_against(verdict.list_made_at))
     if verdict.detail:

@@ -55,7 +55,8 @@ def test_verify_accepts_the_qr_url_against_a_saved_key_file(
     assert f"refusal {issued['number']} for BDG 252 QH" in out
     assert "\nThis vehicle must not carry passengers\n" in out
     issued_at, expires_at = (datetime.fromisoformat(issued[k]) for k in ("issued_at", "expires_at"))
-    assert f"issued {long_date(issued_at)}, valid until {long_date(expires_at)}\n" in out
+    assert f"issued {long_date(issued_at)}. This refusal stands until {long_date(expires_at)}.\n" in out
+    assert "valid" not in out.lower().replace("genuine", "")
 
 
 def test_verify_refuses_a_flipped_character_an_unknown_key_and_a_swapped_number(

@@ -101,7 +101,7 @@ def test_the_occupancy_verdict_and_validity_read_the_same_everywhere(
     # Issue 21: `trikecert verify` exits 3 for a genuine refusal (0 before), 0 only for a certificate.
     out = cli(capsys, "verify", body["qr_url"], exit_status=0 if body["compliant"] else 3)
     assert f"\n{occupancy}\n" in out
-    assert f", valid until {valid_until}\n" in out
+    assert f". {'Valid' if until == 'Valid until' else 'This refusal stands'} until {valid_until}.\n" in out
 
 
 def test_a_refusal_is_called_a_refusal_and_times_name_their_zone(
