@@ -27,6 +27,7 @@ from sqlalchemy.orm import Session
 
 from app import config, db
 from app.certificates.guard import immutability_lifted
+from app.certificates.trust_bundle import forget_bundles
 from app.db import Base, make_engine
 from app.grants import grant_app_role
 from app.inspections.models import Inspection
@@ -34,6 +35,7 @@ from app.main import create_app
 from app.migrate import upgrade
 from app.ops.requests import flush_logs
 from app.stations.service import create_station
+from app.trust.keys import forget_published_keys
 
 TEST_DATABASE_ENV = "TRIKECERT_TEST_DATABASE_URL"
 # This run's mark in the names of what it makes on a PostgreSQL server (its database and roles).
@@ -242,6 +244,10 @@ def engine(database_url: str, owner_engine: Engine) -> Iterator[Engine]:
     with owner_engine.begin() as connection, immutability_lifted(connection):
         for table in reversed(Base.metadata.sorted_tables):
             connection.execute(table.delete())
+    # What a process keeps while the records say nothing changed: a database emptied and filled again
+    # can say the same (ids restart, counts repeat), so the next test must not be served this one's.
+    forget_bundles()
+    forget_published_keys()
 
 
 @pytest.fixture

@@ -428,6 +428,11 @@ def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
     return dict(keys)
 
 
+def forget_published_keys() -> None:
+    """Drop the key sets kept in memory (tests, which empty and refill one database)."""
+    _published.clear()
+
+
 def _published_keys(session: Session, settings: Settings) -> dict[str, Any]:
     trusted = trusted_key_rows(session, settings)
     return {
