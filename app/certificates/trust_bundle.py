@@ -37,8 +37,8 @@ from app.trust.bundle import (
     sign_bundle,
     yyyymmdd,
 )
-from app.trust.keys import current_signer, key_event_count, trusted_key_rows
-from app.trust.models import KeyEndorsement, KeyWithdrawal, SigningKey
+from app.trust.keys import current_signer, key_event_count, key_event_marks, trusted_key_rows
+from app.trust.models import SigningKey
 from app.trust.signing import issuer_claim
 from app.trust.validity import local_date
 
@@ -80,11 +80,7 @@ def _marker(session: Session) -> tuple[object, ...]:
     row = session.execute(
         select(
             select(func.max(CertificateAudit.id)).scalar_subquery(),
-            select(func.count()).select_from(SigningKey).scalar_subquery(),
-            select(func.count(SigningKey.retired_at)).scalar_subquery(),
-            select(func.max(SigningKey.created_at)).scalar_subquery(),
-            select(func.count()).select_from(KeyEndorsement).scalar_subquery(),
-            select(func.count()).select_from(KeyWithdrawal).scalar_subquery(),
+            *key_event_marks(),
         )
     ).one()
     return tuple(row)

@@ -20,7 +20,7 @@ from typing import Any
 import cbor2
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from joserfc.jwk import OKPKey
-from sqlalchemy import func, select
+from sqlalchemy import ScalarSelect, func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
@@ -400,18 +400,20 @@ def cose_key(jwk: dict[str, Any], kid: str) -> str:
 _published: dict[tuple[object, ...], dict[str, Any]] = {}
 
 
+def key_event_marks() -> list[ScalarSelect[Any]]:
+    """What changes with every key event, as look-ups over the small key tables (to select at once)."""
+    return [
+        select(func.count()).select_from(SigningKey).scalar_subquery(),
+        select(func.count(SigningKey.retired_at)).scalar_subquery(),
+        select(func.max(SigningKey.created_at)).scalar_subquery(),
+        select(func.count()).select_from(KeyEndorsement).scalar_subquery(),
+        select(func.count()).select_from(KeyWithdrawal).scalar_subquery(),
+    ]
+
+
 def _key_marker(session: Session) -> tuple[object, ...]:
-    """What changes with every key event, in one statement over the small key tables."""
-    row = session.execute(
-        select(
-            select(func.count()).select_from(SigningKey).scalar_subquery(),
-            select(func.count(SigningKey.retired_at)).scalar_subquery(),
-            select(func.max(SigningKey.created_at)).scalar_subquery(),
-            select(func.count()).select_from(KeyEndorsement).scalar_subquery(),
-            select(func.count()).select_from(KeyWithdrawal).scalar_subquery(),
-        )
-    ).one()
-    return tuple(row)
+    """What changes with every key event, in one statement."""
+    return tuple(session.execute(select(*key_event_marks())).one())
 
 
 def published_keys(session: Session, settings: Settings) -> dict[str, Any]:
