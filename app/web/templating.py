@@ -12,6 +12,7 @@ from starlette.responses import HTMLResponse
 from starlette.templating import Jinja2Templates
 
 from app.config import get_settings
+from app.i18n import active as i18n
 from app.web import formatting
 from app.wording import (
     case_name,
@@ -32,6 +33,11 @@ _env = jinja2.Environment(
     undefined=jinja2.StrictUndefined,
     trim_blocks=True,
     lstrip_blocks=True,
+    extensions=["jinja2.ext.i18n"],
+)
+# newstyle: {{ _("…", name=value) }} escapes and formats like every other expression.
+_env.install_gettext_callables(  # type: ignore[attr-defined]
+    i18n.gettext, i18n.ngettext, newstyle=True, pgettext=i18n.pgettext
 )
 _env.filters.update(
     kg=formatting.kg,
