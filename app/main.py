@@ -24,6 +24,7 @@ from app.ops.metrics import router as metrics_router
 from app.ops.public_limit import PublicRateLimit
 from app.ops.requests import RequestContext, configure_logging
 from app.web.headers import install_security_headers
+from app.web.language import LanguageMiddleware
 from app.web.setup import install_web
 
 DESCRIPTION = """\
@@ -74,6 +75,7 @@ def create_app() -> FastAPI:
         app.include_router(router)
     install_docs(app)
     install_web(app, page_routers)  # the officer pages; after the API's error handlers
+    app.add_middleware(LanguageMiddleware)  # inside the request log: errors it meets are logged
     app.add_middleware(RequestContext)
     install_security_headers(app)
     install_liveness_first(app)  # outermost: a probe meets none of the above

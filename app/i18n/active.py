@@ -11,7 +11,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 
 from app.i18n.catalogs import translations
-from app.i18n.locales import ENGLISH
+from app.i18n.locales import ENGLISH, HTML_LANG
 
 _active: ContextVar[str] = ContextVar("trikecert_locale", default=ENGLISH)
 
@@ -19,6 +19,11 @@ _active: ContextVar[str] = ContextVar("trikecert_locale", default=ENGLISH)
 def current_locale() -> str:
     """The active locale ('en', 'ha', 'yo', 'ig' or 'pcm')."""
     return _active.get()
+
+
+def html_lang() -> str:
+    """The BCP 47 tag of the active locale, for <html lang> ('en-GB', 'ha', 'yo', 'ig', 'pcm')."""
+    return HTML_LANG[_active.get()]
 
 
 @contextmanager

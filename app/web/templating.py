@@ -53,6 +53,7 @@ _env.filters.update(
     layout_title=formatting.layout_title,
 )
 _env.globals.update(
+    html_lang=i18n.html_lang,
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
     case_name=case_name,
