@@ -128,6 +128,9 @@ class Settings(BaseSettings):
     # smtps://... (TLS from the start); unset: no email is sent (messages wait in the outbox).
     smtp_url: SecretStr | None = None
     mail_from: str = "trikecert <reminders@trikecert.invalid>"
+    # The key of the contacts' digests (HMAC; docs/notifications.md); unset: a file of random bytes
+    # beside the signing key file, made on first use.
+    contact_digest_key: SecretStr | None = Field(default=None, min_length=32)
     # Limits: confirmation codes per contact and per client address a day; checks per phone an hour.
     confirmations_per_contact: int = Field(default=3, ge=1)
     confirmations_per_address: int = Field(default=20, ge=1)
@@ -140,7 +143,12 @@ class Settings(BaseSettings):
     notify_keep_days: int = Field(default=30, ge=1, le=3650)
 
     @field_validator(
-        "gateway_callback_token", "africastalking_api_key", "africastalking_sender", "smtp_url", mode="before"
+        "gateway_callback_token",
+        "africastalking_api_key",
+        "africastalking_sender",
+        "smtp_url",
+        "contact_digest_key",
+        mode="before",
     )
     @classmethod
     def blank_is_unset(cls, value: object) -> object:

@@ -4,8 +4,11 @@ and digested where only their sameness matters (limits, counts)."""
 from __future__ import annotations
 
 import hashlib
+import hmac
 import re
 
+from app.config import get_settings
+from app.notifications.digest_key import contact_digest_key
 from app.text import TextRefused, check_text
 
 EMAIL_LENGTH = 254
@@ -76,5 +79,7 @@ def mask(channel: str, contact: str) -> str:
 
 
 def digest(value: str) -> str:
-    """A contact or client address as only its sameness is kept (limits and counts)."""
-    return hashlib.sha256(f"trikecert-contact:{value}".encode()).hexdigest()
+    """A contact or client address as only its sameness is kept (limits and counts): keyed, so that
+    the digest of a phone number cannot be found by hashing every number (app/notifications/digest_key.py)."""
+    key = contact_digest_key(get_settings())
+    return hmac.new(key, f"trikecert-contact:{value}".encode(), hashlib.sha256).hexdigest()
