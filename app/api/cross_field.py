@@ -38,6 +38,8 @@ WORDS = {
     "less_than_level": "`cg_lift.front_kg` (the front raised) must be below `readings.front_kg` (level).",
     "below_wheelbase": "`cg_lift.lift_height_m` must be below the wheelbase.",
     "one_of": "give `cg_lift` or `cg_height_m`, not both.",
+    "front_track": "`front_track_m` is the track of two front wheels (a tadpole, a quadricycle): a "
+    "vehicle with one front wheel (a delta) has none, and giving one is refused.",
     "too_few": "a type is assessed from at least two vehicles of the make and model on file.",
     "same_model": "each inspection in `inspection_ids` is of a vehicle of that make and model (and year).",
     "one_per_vehicle": "one inspection per vehicle: two ids of the same vehicle's inspections are refused.",

@@ -75,6 +75,7 @@ def read_dynamics(
             rear_cornering_stiffness_n_per_rad=vehicle.rear_cornering_stiffness_n_per_rad,
             drag_area_m2=vehicle.drag_area_m2,
             centre_of_pressure_height_m=vehicle.centre_of_pressure_height_m,
+            front_track_m=vehicle.front_track_m,
             **lift_inputs(data),
             empty_cg_height_m=rounded(dynamics.empty_cg_height_m, 4),
             air_density_kg_m3=density,

@@ -20,6 +20,7 @@ DYNAMICS_FIELDS = (
     "rear_cornering_stiffness_n_per_rad",
     "drag_area_m2",
     "centre_of_pressure_height_m",
+    "front_track_m",
 )
 
 
@@ -45,6 +46,8 @@ class VehicleDynamicsRevision(Base):
     rear_cornering_stiffness_n_per_rad: Mapped[Decimal | None] = mapped_column(Numeric(9, 1))
     drag_area_m2: Mapped[Decimal | None] = mapped_column(Numeric(6, 4))
     centre_of_pressure_height_m: Mapped[Decimal | None] = mapped_column(Numeric(6, 4))
+    # Two front wheels (tadpole, quadricycle) tip about their track; null on a delta.
+    front_track_m: Mapped[Decimal | None] = mapped_column(Numeric(6, 4))
 
     # By name: the vehicle's model is in app/vehicles/, above this package.
     vehicle: Mapped[FiguredVehicle] = relationship(

@@ -113,6 +113,7 @@ def inputs_used(
     rows = [
         ("Vehicle figures", f"revision {revision.revision}" if revision else "None on file"),
         ("Rear track", given(vehicle.track_m, 3, "m")),
+        *([("Front track", given(vehicle.front_track_m, 3, "m"))] if data.n_front > 1 else []),
         ("Loaded rear wheel radius", given(vehicle.wheel_radius_m, 3, "m")),
         ("Seated heights, driver first", heights if heights == NOT_RECORDED else f"{heights} m"),
         (

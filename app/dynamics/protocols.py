@@ -26,6 +26,10 @@ class FiguredVehicle(Protocol):
         """The normalised registration, in the vehicle's address."""
 
     @property
+    def layout(self) -> str:
+        """The axle layout's name (delta, tadpole, quadricycle)."""
+
+    @property
     def seats(self) -> Sequence[object]:
         """The seat layout, driver first (the figures give one height per seat)."""
 

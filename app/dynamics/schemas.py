@@ -14,6 +14,7 @@ from app.stability.dynamics import BOUNDS, SEAT_HEIGHT_M
 # Decimal places accepted for each figure (metres to 0.1 mm, stiffness to 0.1 N/rad).
 DECIMALS = {
     "track_m": 4,
+    "front_track_m": 4,
     "wheel_radius_m": 4,
     "front_cornering_stiffness_n_per_rad": 1,
     "rear_cornering_stiffness_n_per_rad": 1,
@@ -25,6 +26,7 @@ DECIMALS = {
 }
 UNITS = {
     "track_m": "m",
+    "front_track_m": "m",
     "wheel_radius_m": "m",
     "front_cornering_stiffness_n_per_rad": "N/rad per tyre",
     "rear_cornering_stiffness_n_per_rad": "N/rad per tyre",
@@ -56,6 +58,10 @@ def figure_schema(name: str, description: str) -> WithJsonSchema:
 
 
 _TRACK = "Rear track: between the centres of the rear tyres' contact patches (m)."
+_FRONT_TRACK = (
+    "Front track, for two front wheels (tadpole, quadricycle): between the centres of the front tyres' "
+    "contact patches (m)."
+)
 _RADIUS = "Loaded rear wheel radius: axle centre to the ground (m)."
 _FRONT = "Cornering stiffness of the front tyre (N/rad)."
 _REAR = "Cornering stiffness of each rear tyre (N/rad)."
@@ -63,6 +69,12 @@ _DRAG = "Drag coefficient times frontal area, Cd x A (m²)."
 _PRESSURE = "Height of the centre of pressure above the ground (m)."
 _ONLY_NUMBERS = BeforeValidator(number_only)
 Track = Annotated[Decimal, _ONLY_NUMBERS, figure_field("track_m", _TRACK), figure_schema("track_m", _TRACK)]
+FrontTrack = Annotated[
+    Decimal,
+    _ONLY_NUMBERS,
+    figure_field("front_track_m", _FRONT_TRACK),
+    figure_schema("front_track_m", _FRONT_TRACK),
+]
 WheelRadius = Annotated[
     Decimal, _ONLY_NUMBERS, figure_field("wheel_radius_m", _RADIUS), figure_schema("wheel_radius_m", _RADIUS)
 ]
@@ -118,6 +130,7 @@ class VehicleDynamicsIn(BaseModel):
     rear_cornering_stiffness_n_per_rad: RearStiffness | None = None
     drag_area_m2: DragArea | None = None
     centre_of_pressure_height_m: PressureHeight | None = None
+    front_track_m: FrontTrack | None = None
 
 
 class VehicleDynamicsOut(BaseModel):
@@ -131,6 +144,12 @@ class VehicleDynamicsOut(BaseModel):
     rear_cornering_stiffness_n_per_rad: float | None
     drag_area_m2: float | None
     centre_of_pressure_height_m: float | None
+    front_track_m: float | None = Field(
+        default=None,
+        # A vehicle with one front wheel has no front track: the key is left out rather than null.
+        exclude_if=lambda value: value is None,
+        description="The front track of two front wheels (tadpole, quadricycle), when recorded (m).",
+    )
 
 
 _LIFT = "How far the front wheel is raised for the second weighing (m)."
@@ -209,6 +228,13 @@ class DynamicsInputsOut(BaseModel):
     rear_cornering_stiffness_n_per_rad: float | None
     drag_area_m2: float | None
     centre_of_pressure_height_m: float | None
+    front_track_m: float | None = Field(
+        default=None,
+        # A vehicle with one front wheel has no front track: the key is left out rather than null.
+        exclude_if=lambda value: value is None,
+        description="The front track of two front wheels (tadpole, quadricycle), when recorded (m).",
+    )
+
     cg_lift_height_m: float | None
     cg_lift_front_kg: float | None = Field(description="The mean of the raised front readings (kg).")
     cg_height_given_m: float | None

@@ -15,10 +15,12 @@ from app.dynamics.protocols import FiguredVehicle
 from app.errors import Conflict, InvalidInput
 from app.stability import StabilityError
 from app.stability.dynamics import VehicleDynamics, check_vehicle
+from app.stability.layout import layout_named
 
 # Decimal places each figure is stored to (metres to 0.1 mm, stiffness to 0.1 N/rad).
 PLACES = {
     "track_m": 4,
+    "front_track_m": 4,
     "wheel_radius_m": 4,
     "front_cornering_stiffness_n_per_rad": 1,
     "rear_cornering_stiffness_n_per_rad": 1,
@@ -39,6 +41,7 @@ class DynamicsFigures:
     rear_cornering_stiffness_n_per_rad: Decimal | None = None
     drag_area_m2: Decimal | None = None
     centre_of_pressure_height_m: Decimal | None = None
+    front_track_m: Decimal | None = None
 
 
 def _float(value: Decimal | None) -> float | None:
@@ -53,8 +56,15 @@ def core_figures(figures: DynamicsFigures) -> VehicleDynamics:
     )
 
 
-def check_figures(figures: DynamicsFigures, *, seat_count: int) -> None:
-    """Refuse an implausible figure (422 naming the field), or more seat heights than seats."""
+def check_figures(figures: DynamicsFigures, *, seat_count: int, front_wheels: int = 1) -> None:
+    """Refuse an implausible figure (422 naming the field), more seat heights than seats, or a front
+    track for a vehicle with one front wheel."""
+    if front_wheels == 1 and figures.front_track_m is not None:
+        raise InvalidInput(
+            "front_track_m: a vehicle with one front wheel has no front track; leave it out",
+            field="front_track_m",
+            rule="front_track",
+        )
     if len(figures.seat_heights_m) > seat_count:
         raise InvalidInput(
             f"seats: {len(figures.seat_heights_m)} seat heights were given for {seat_count} seats",
@@ -79,7 +89,7 @@ def new_revision(
     session: Session, vehicle: FiguredVehicle, figures: DynamicsFigures
 ) -> VehicleDynamicsRevision:
     """Add the next revision of the vehicle's figures to the session (the caller commits)."""
-    check_figures(figures, seat_count=len(vehicle.seats))
+    check_figures(figures, seat_count=len(vehicle.seats), front_wheels=layout_named(vehicle.layout).n_front)
     latest = 0
     if vehicle.id is not None:
         latest = (

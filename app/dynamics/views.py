@@ -17,6 +17,7 @@ from app.dynamics.models import DYNAMICS_FIELDS
 from app.dynamics.protocols import FiguredVehicle
 from app.dynamics.service import DynamicsFigures, record_figures, revision_figures, seat_heights
 from app.errors import NotFound, ServiceError
+from app.stability.layout import layout_named
 from app.web.deps import FormDep, SessionDep
 from app.web.formatting import NOT_RECORDED, or_not_recorded
 from app.web.forms import FormErrors, parse_decimal, text
@@ -27,6 +28,7 @@ router = APIRouter(prefix="/vehicles", include_in_schema=False)
 # Each figure: its label with the unit, its hint, and the example in the message when it is not a number.
 LABELS = {
     "track_m": ("Rear track (m)", "Between the centres of the two rear tyres, like 1.150"),
+    "front_track_m": ("Front track (m)", "Between the centres of the two front tyres, like 1.200"),
     "wheel_radius_m": ("Loaded rear wheel radius (m)", "From the rear axle centre to the ground, like 0.190"),
     "front_cornering_stiffness_n_per_rad": (
         "Front tyre cornering stiffness (N/rad)",
@@ -43,6 +45,13 @@ LABELS = {
     ),
 }
 SEAT_HINT = "The seated person's centre of gravity above the ground, some 0.2 m above the seat top, like 0.75"
+
+
+def page_fields(vehicle: FiguredVehicle) -> list[str]:
+    """The figures a vehicle's pages ask for and show, in order: a front track only for two front wheels."""
+    two_front_wheels = layout_named(vehicle.layout).n_front > 1
+    fields = [name for name in DYNAMICS_FIELDS if name != "front_track_m"]
+    return [*fields[:1], "front_track_m", *fields[1:]] if two_front_wheels else fields
 
 
 def seat_input(index: int) -> str:
@@ -112,6 +121,7 @@ def _page(
             "values": values,
             "errors": errors.messages,
             "labels": LABELS,
+            "track_fields": [name for name in page_fields(vehicle) if name.endswith("track_m")],
             "seat_hint": SEAT_HINT,
         },
         status_code=status,
@@ -155,8 +165,9 @@ def figures_rows(vehicle: FiguredVehicle) -> dict[str, object]:
     """The vehicle page's summary of the figures in force: (label, value) rows and the revision."""
     revisions = vehicle.dynamics_revisions
     values = current_values(vehicle)
-    rows = [(LABELS[name][0], or_not_recorded(values[name])) for name in DYNAMICS_FIELDS]
+    fields = page_fields(vehicle)
+    rows = [(LABELS[name][0], or_not_recorded(values[name])) for name in fields]
     heights = [str(or_not_recorded(values[seat_input(i)])) for i in range(len(vehicle.seats))]
     shown = NOT_RECORDED if all(h == NOT_RECORDED for h in heights) else ", ".join(heights)
-    rows.insert(2, ("Seated heights, driver first (m)", shown))
+    rows.insert(fields.index("wheel_radius_m") + 1, ("Seated heights, driver first (m)", shown))
     return {"rows": rows, "revision": revisions[-1].revision if revisions else None}

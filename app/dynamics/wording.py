@@ -18,7 +18,7 @@ INPUT_WORDS = {
     "cg_lift or cg_height_m": "the centre of gravity height (a weighing with the front wheel raised)",
     "wheel_radius_m": "the loaded rear wheel radius",
     "track_m": "the rear track",
-    "front_track_m": "the front track (two front wheels tip about it; not yet among a vehicle's figures)",
+    "front_track_m": "the front track (two front wheels tip about it)",
     "front_cornering_stiffness_n_per_rad": "the front tyre's cornering stiffness",
     "rear_cornering_stiffness_n_per_rad": "the rear tyres' cornering stiffness",
     "drag_area_m2": "the drag area",

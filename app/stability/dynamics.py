@@ -22,6 +22,7 @@ LSF_LIMIT = 2 / 3  # the estimates compare in floats; the verdict's exact 2/3 is
 SEAT_HEIGHT_M = (0.2, 2.0)  # a seated person's CG above the ground
 BOUNDS: dict[str, tuple[float, float, str]] = {
     "track_m": (0.0, 3.0, "rear track"),
+    "front_track_m": (0.0, 3.0, "front track"),
     "wheel_radius_m": (0.0, 1.0, "loaded rear wheel radius"),
     "cg_height_m": (0.0, 3.0, "centre of gravity height"),
     "cg_lift.lift_height_m": (0.0, 2.0, "height the front wheel is raised"),
@@ -55,13 +56,14 @@ class CaseLoad:
 class VehicleDynamics:
     """The vehicle's assumed or measured figures beyond the weighing; None where unknown."""
 
-    track_m: float | None = None
+    track_m: float | None = None  # the rear track: two rear wheels (delta, quadricycle)
     wheel_radius_m: float | None = None
     seat_heights_m: tuple[float | None, ...] = ()  # z of each seat, driver first
     front_cornering_stiffness_n_per_rad: float | None = None
     rear_cornering_stiffness_n_per_rad: float | None = None
     drag_area_m2: float | None = None
     centre_of_pressure_height_m: float | None = None
+    front_track_m: float | None = None  # two front wheels (tadpole, quadricycle)
 
 
 @dataclass(frozen=True)
@@ -178,6 +180,7 @@ def check_vehicle(vehicle: VehicleDynamics) -> None:
     """Refuse any implausible figure of the vehicle's dynamics, naming the field."""
     for name in (
         "track_m",
+        "front_track_m",
         "wheel_radius_m",
         "front_cornering_stiffness_n_per_rad",
         "rear_cornering_stiffness_n_per_rad",
@@ -313,6 +316,19 @@ def critical_speed_ms(
     return wheelbase_m * math.sqrt(n_front * n_rear * front_n_per_rad * rear_n_per_rad / (mass_kg * -margin))
 
 
+def _tracks(data: DynamicsInput, missing: list[str]) -> tuple[float, float] | None:
+    """The front and rear tracks of the tipping axis (0 for a single wheel); None, with the missing
+    figures named, while an axle of two wheels has no track on record."""
+    vehicle = data.vehicle
+    front = 0.0 if data.n_front == 1 else vehicle.front_track_m
+    rear = 0.0 if data.n_rear == 1 else vehicle.track_m
+    if rear is None:
+        missing.append("track_m")
+    if front is None:
+        missing.append("front_track_m")
+    return None if front is None or rear is None else (front, rear)
+
+
 def assess_dynamics(data: DynamicsInput) -> Dynamics:
     """Every case's estimates from what is known; the names of the missing inputs beside them."""
     vehicle = data.vehicle
@@ -320,11 +336,9 @@ def assess_dynamics(data: DynamicsInput) -> Dynamics:
     missing: list[str] = []
     empty = data.cases[0]
     h0 = _empty_cg_height(data, empty, missing)
-    if vehicle.track_m is None:
-        missing.append("track_m")
-    # Two front wheels tip about their own track, which the vehicle's figures do not hold yet.
-    if data.n_front > 1:
-        missing.append("front_track_m")
+    # The tipping axis runs through the outer wheels: an axle of two wheels needs its track, a
+    # single wheel has none (reference section 9).
+    tracks = _tracks(data, missing)
     stiffness = (vehicle.front_cornering_stiffness_n_per_rad, vehicle.rear_cornering_stiffness_n_per_rad)
     for name, value in zip(
         ("front_cornering_stiffness_n_per_rad", "rear_cornering_stiffness_n_per_rad"), stiffness, strict=True
@@ -338,9 +352,9 @@ def assess_dynamics(data: DynamicsInput) -> Dynamics:
         height = None if h0 is None or data.has_load_items else _case_height(data, case, h0, missing)
         threshold = (
             None
-            if height is None or vehicle.track_m is None or data.n_front > 1
+            if height is None or tracks is None
             else rollover_threshold_about_axis(
-                front_track_m=0.0, rear_track_m=vehicle.track_m, cg_height_m=height, lsf=case.lsf
+                front_track_m=tracks[0], rear_track_m=tracks[1], cg_height_m=height, lsf=case.lsf
             )
         )
         margin = speed = None

@@ -61,7 +61,7 @@ def vehicle_out(vehicle: Vehicle) -> VehicleOut:
     },
     summary="Register a vehicle with its seat layout",
 )
-@cross_field_rules("range")
+@cross_field_rules("range", "front_track")
 def create_vehicle(
     body: VehicleIn,
     session: SessionDep,

@@ -80,7 +80,7 @@ def register_vehicle(
         raise InvalidInput(error.message, field=error.field, rule=error.rule) from error
     _check_layout(wheelbase_m, seats, rules)
     dynamics = dynamics or DynamicsFigures()
-    check_figures(dynamics, seat_count=len(seats))
+    check_figures(dynamics, seat_count=len(seats), front_wheels=axles.n_front)
     on_file = _registered_as(session, key)
     if on_file is not None:
         raise _duplicate(registration_number, on_file)

@@ -205,7 +205,8 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
       of another model or of a vehicle named twice, different seat layouts (checked in the database).
     - the axle-lift weighing for the estimates: the raised front reading not below the level one
       (less_than_level), a lift not below the wheelbase (below_wheelbase), or both a lift and a CG
-      height given (one_of), each recomputed here.
+      height given (one_of), each recomputed here; a front track for a vehicle with one front wheel
+      (front_track).
     """
     field, rule = problem.get("field", ""), problem.get("rule", "")
     if rule in ("missing", "extra_forbidden") and field.split(".")[-2:-1] == ["readings"]:
@@ -235,6 +236,8 @@ def refused_by_a_cross_field_rule(body: dict[str, Any], problem: dict[str, str])
         return _decimal(body["cg_lift"]["lift_height_m"]) >= wheelbase
     if rule == "one_of":
         return body.get("cg_lift") is not None and body.get("cg_height_m") is not None
+    if rule == "front_track":  # the body's layout, else the test's vehicle's: a delta
+        return body.get("front_track_m") is not None and body.get("layout", "delta") == "delta"
     return rule in {"front_wheel_lift", "rear_wheel_lift"}
 
 
