@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Header, Path, Query, Request, Response, status
+from fastapi import APIRouter, Body, Header, Path, Query, Request, Response, status
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
@@ -18,7 +18,7 @@ from app.certificates.issuer import issuer_of
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
-from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
+from app.certificates.schemas import CertificateOut, IssueIn, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
 from app.certificates.verification_examples import VERIFICATION_EXAMPLES
 from app.certificates.verify_json import payload_param, verification
@@ -100,16 +100,25 @@ def certificate_out(session: Session, certificate: Certificate) -> CertificateOu
     summary="Issue the certificate (or refusal) of one of this station's inspections",
 )
 def create_certificate(
-    inspection_id: InspectionId, session: SessionDep, station: StationDep, response: Response
+    inspection_id: InspectionId,
+    session: SessionDep,
+    station: StationDep,
+    response: Response,
+    body: Annotated[IssueIn | None, Body()] = None,
 ) -> CertificateOut:
     """201 with a new certificate; 200 with the current one if the inspection is already certified.
 
     A compliant inspection gets a certificate, a non-compliant one a refusal. It supersedes the
     vehicle's previous certificate. 409 when a newer inspection of the vehicle is already certified
-    or this inspection's certificate was revoked or has expired.
+    or this inspection's certificate was revoked or has expired. An optional body chooses the paper's
+    second language (`{"second_language": "ha"}`).
     """
     issued = issue_certificate(
-        session, inspection_id=inspection_id, actor=Actor.of_station(station), settings=get_settings()
+        session,
+        inspection_id=inspection_id,
+        actor=Actor.of_station(station),
+        settings=get_settings(),
+        second_language=body.second_language if body is not None else None,
     )
     number = issued.certificate.number
     response.status_code = status.HTTP_201_CREATED if issued.created else status.HTTP_200_OK
