@@ -76,7 +76,7 @@ def chart_height(room: float) -> float | None:
     return height if height >= MIN_H else None
 
 
-SECOND_LINE = 3.0  # mm: a bilingual chart's translated legend and axis title, each a line more
+SECOND_LINE = 3.5  # mm: a bilingual chart's translated legend and axis title, each a line more
 
 
 def _fitted(pdf: FPDF, text: str, width: float, size: float = 7) -> None:
@@ -178,7 +178,7 @@ def draw_chart(
         _fitted(pdf, line, box.w + RIGHT - 2)
         pdf.text(
             max(box.x - LEFT + 1, box.x + box.w / 2 - pdf.get_string_width(line) / 2),
-            box.y + box.h + 11.5,
+            box.y + box.h + 8.5 + SECOND_LINE,
             line,
         )
     pdf.set_line_width(0.2)
