@@ -110,6 +110,11 @@ class Page(FPDF):
             self._wrapped[key] = _wrap(self.printable(text), width, wide)
         return self._wrapped[key]
 
+    def measure_line(self, line: str, size: float, bold: bool = False) -> float:
+        """The width (mm) of one line at `size` points (combining accents take no room)."""
+        widths = fonts.widths("B" if bold else "")
+        return sum(widths.get(ord(char), 0) for char in self.printable(line)) * size * PT / 1000
+
     def measure(self, width: float, text: str, size: float, bold: bool = False) -> float:
         """The height (mm) of `text` wrapped in `width` at `size` points."""
         return len(self.lines(width, text, size, bold)) * line_height(size)
@@ -127,7 +132,14 @@ class Page(FPDF):
                 # A raised accent sits above its letter's baseline, and text extractors (poppler,
                 # pdfium) would read it as a line of its own: the line's text is given as ActualText.
                 self._out(f"/Span <</ActualText <FEFF{line.encode('utf-16-be').hex().upper()}>>> BDC")
-            self.cell(width, height, line, align=align)
+            if shaped and align in ("R", "C"):
+                # fpdf2 misplaces the combining accents of a shaped line it aligns itself (they drift
+                # right, out of the cell): the line is placed here and drawn left-aligned.
+                wide = self.measure_line(line, size, bold)
+                self.set_x(x + (width - wide) / (2 if align == "C" else 1))
+                self.cell(wide, height, line, align="L")
+            else:
+                self.cell(width, height, line, align=align)
             if shaped:
                 self._out("EMC")
             y += height
