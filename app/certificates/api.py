@@ -7,9 +7,9 @@ exactly as one that does not exist, as inspections are.
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
-from fastapi import APIRouter, Body, Header, Path, Query, Request, Response, status
+from fastapi import APIRouter, Header, Path, Query, Request, Response, status
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
@@ -18,7 +18,7 @@ from app.certificates.issuer import issuer_of
 from app.certificates.models import Certificate
 from app.certificates.pdf_response import pdf_response
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
-from app.certificates.schemas import CertificateOut, IssueIn, IssuerOut, RevocationOut, VerificationOut
+from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
 from app.certificates.verification_examples import VERIFICATION_EXAMPLES
 from app.certificates.verify_json import payload_param, verification
@@ -104,21 +104,31 @@ def create_certificate(
     session: SessionDep,
     station: StationDep,
     response: Response,
-    body: Annotated[IssueIn | None, Body()] = None,
+    second_language: Annotated[
+        Literal["en", "ha", "yo", "ig", "pcm"] | None,
+        Query(
+            description="The language printed under the English on the paper: ha (Hausa), yo (Yoruba), "
+            "ig (Igbo), pcm (Nigerian Pidgin), or en for English only; absent: the service's setting "
+            "(TRIKECERT_PAPER_SECOND_LANGUAGE). The English text stays the legally binding one, and the "
+            "signed QR payload is the same in every language. An inspection already certified keeps its "
+            "paper as issued.",
+            examples=["ha"],
+        ),
+    ] = None,
 ) -> CertificateOut:
     """201 with a new certificate; 200 with the current one if the inspection is already certified.
 
     A compliant inspection gets a certificate, a non-compliant one a refusal. It supersedes the
     vehicle's previous certificate. 409 when a newer inspection of the vehicle is already certified
-    or this inspection's certificate was revoked or has expired. An optional body chooses the paper's
-    second language (`{"second_language": "ha"}`).
+    or this inspection's certificate was revoked or has expired. `?second_language=ha` prints the paper
+    in English and Hausa (or yo, ig, pcm; en: English only).
     """
     issued = issue_certificate(
         session,
         inspection_id=inspection_id,
         actor=Actor.of_station(station),
         settings=get_settings(),
-        second_language=body.second_language if body is not None else None,
+        second_language=second_language,
     )
     number = issued.certificate.number
     response.status_code = status.HTTP_201_CREATED if issued.created else status.HTTP_200_OK

@@ -10,21 +10,6 @@ from pydantic import BaseModel, Field
 EXAMPLE_NUMBER = "TRK-2026-000001-E"
 
 
-class IssueIn(BaseModel):
-    """What a station may ask of the paper it issues: its second language (optional body)."""
-
-    model_config = {"extra": "forbid"}
-
-    second_language: Literal["en", "ha", "yo", "ig", "pcm"] | None = Field(
-        default=None,
-        description="The language printed under the English on the paper: ha (Hausa), yo (Yoruba), ig "
-        "(Igbo), pcm (Nigerian Pidgin), or en for English only; absent: the service's setting "
-        "(TRIKECERT_PAPER_SECOND_LANGUAGE). The English text stays the legally binding one, and the "
-        "signed QR payload is the same in every language. An inspection already certified keeps its paper.",
-        examples=["ha"],
-    )
-
-
 class RevocationOut(BaseModel):
     """When and why a certificate was revoked."""
 
