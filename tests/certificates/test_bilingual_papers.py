@@ -41,6 +41,7 @@ import app.certificates.service as service
 import app.i18n.active as active
 from app.accounts.service import create_user
 from app.audit.models import AuditEvent
+from app.certificates.actors import Actor
 from app.certificates.models import Certificate
 from app.certificates.pdf import (
     CertificateDocument,
@@ -51,6 +52,8 @@ from app.certificates.pdf import (
     title,
     verdict_words,
 )
+from app.certificates.service import revoke_certificate
+from app.certificates.stamp import status_word
 from app.config import Settings, get_settings, settings_problems
 from app.db import utcnow
 from app.documents import fonts
@@ -69,6 +72,7 @@ LETTERS = "ẹọṣɓɗƙƴụịṅẸỌṢƁƊƘƳỤỊṄàáèéìíòó�
 # The modules whose words are printed on the paper.
 PDF_MODULES = (
     "app/certificates/pdf.py",
+    "app/certificates/stamp.py",
     "app/documents/layout.py",
     "app/documents/chart.py",
     "app/dynamics/pdf.py",
@@ -244,7 +248,6 @@ def test_the_signed_claims_are_the_same_in_every_language(
     monkeypatch.setattr(service, "render_pdf", stop)
     settings = get_settings()
     now = utcnow()
-    from app.certificates.actors import Actor
 
     for language in (None, "en", *LANGUAGES):
         with pytest.raises(Stop):
@@ -365,6 +368,33 @@ def test_the_estimates_section_is_bilingual_and_overlaps_nothing(
         lambda: _("Beyond the static test (estimates, not part of the verdict)"), language
     )
     assert squeezed(english + translated) in flat
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_a_revoked_bilingual_paper_is_stamped_in_its_two_languages(
+    api: TestClient, session: Session, layouts: list[Any], language: str
+) -> None:
+    rendered, document = paper(api, layouts, "refusal", language)
+    revoke_certificate(session, number=document.number, actor=Actor.of_cli(), reason="Wrong wheel readings")
+    stamped = api.get(f"/api/v1/certificates/{document.number}/pdf")
+    assert stamped.status_code == 200
+    assert stamped.content.startswith(rendered.pdf)  # the stored original, untouched
+    words, sizes = geometry.words_of(stamped.content)
+    for word in words:
+        width, _height = sizes[word.page - 1]
+        assert 5 * geometry.MM <= word.x0 < word.x1 <= width - 5 * geometry.MM, word
+    with use_locale(language):
+        translated = nfc(status_word("revoked"))
+    letters = squeezed(pdftotext(pdf=stamped.content))
+    assert "REVOKEDon" in letters
+    # The diagonal words read back letter by letter: every letter of the translation is there, per page.
+    new = nfc(pdftotext(pdf=stamped.content)).split("\f")
+    old = nfc(pdftotext(pdf=rendered.pdf)).split("\f")
+    for page_new, page_old in zip(new, old, strict=False):
+        added = squeezed(page_new)
+        for letter in set(squeezed(translated)):
+            wanted = squeezed(page_old).count(letter) + squeezed(translated).count(letter)
+            assert added.count(letter) >= wanted, letter
 
 
 # --- the layout under long translations ---------------------------------------------------------
