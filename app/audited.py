@@ -34,7 +34,7 @@ FOLLOWED: dict[type[Any], Audited] = {
     SigningKey: Audited("signing_key", ("kid", "source", "active"), lambda r: r.kid),
     Certificate: Audited(
         "certificate",
-        ("kind", "registration_number", "inspection_id"),
+        ("kind", "registration_number", "inspection_id", "second_language"),
         lambda r: r.number,
         created_action=_issued,
         event_first=True,

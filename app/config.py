@@ -14,8 +14,11 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 from sqlalchemy.engine import make_url
 
 from app.grants import check_role_name
+from app.i18n.locales import ENGLISH, LOCALES
 from app.stability import Rules
 
+# The languages a paper may be printed in besides English (which is always first, and binding).
+SECOND_LANGUAGES = tuple(locale for locale in LOCALES if locale != ENGLISH)
 PLACEHOLDER_SECRETS = {
     "",
     "changeme",
@@ -62,6 +65,9 @@ class Settings(BaseSettings):
     # The public address printed on certificates and in QR codes; production requires an https one.
     base_url: str = "http://127.0.0.1:8000"
     issuing_authority: str = "Tricycle Lateral Stability Certification Authority"
+    # The language printed under the English on a certificate or refusal unless the officer picks
+    # another when issuing it: ha, yo, ig or pcm; empty: English only (the English stays binding).
+    paper_second_language: str = ""
     # Where the Ed25519 key that signs QR payloads and audit checkpoints is held: never in the database.
     # A PEM file (0600) the service reads and rotation rewrites; unset: trikecert-signing-key.pem beside
     # the SQLite database file, else in the working directory (made on first use).
@@ -154,6 +160,20 @@ class Settings(BaseSettings):
     def blank_is_unset(cls, value: object) -> object:
         """An empty variable (as docker-compose passes an unset one) means unset."""
         return None if value == "" else value
+
+    @field_validator("paper_second_language")
+    @classmethod
+    def check_paper_second_language(cls, value: str) -> str:
+        """Empty (English only) or a language the papers are printed in besides English."""
+        value = value.strip().lower()
+        if value in ("", ENGLISH):
+            return ""
+        if value not in SECOND_LANGUAGES:
+            raise ValueError(
+                f"{value!r} is not a paper language; leave it empty for English only, or set one of "
+                + ", ".join(SECOND_LANGUAGES)
+            )
+        return value
 
     @field_validator("gateway_allowed_ips")
     @classmethod

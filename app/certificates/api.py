@@ -7,7 +7,7 @@ exactly as one that does not exist, as inspections are.
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Header, Path, Query, Request, Response, status
 from sqlalchemy.orm import Session
@@ -100,16 +100,35 @@ def certificate_out(session: Session, certificate: Certificate) -> CertificateOu
     summary="Issue the certificate (or refusal) of one of this station's inspections",
 )
 def create_certificate(
-    inspection_id: InspectionId, session: SessionDep, station: StationDep, response: Response
+    inspection_id: InspectionId,
+    session: SessionDep,
+    station: StationDep,
+    response: Response,
+    second_language: Annotated[
+        Literal["en", "ha", "yo", "ig", "pcm"] | None,
+        Query(
+            description="The language printed under the English on the paper: ha (Hausa), yo (Yoruba), "
+            "ig (Igbo), pcm (Nigerian Pidgin), or en for English only; absent: the service's setting "
+            "(TRIKECERT_PAPER_SECOND_LANGUAGE). The English text stays the legally binding one, and the "
+            "signed QR payload is the same in every language. An inspection already certified keeps its "
+            "paper as issued.",
+            examples=["ha"],
+        ),
+    ] = None,
 ) -> CertificateOut:
     """201 with a new certificate; 200 with the current one if the inspection is already certified.
 
     A compliant inspection gets a certificate, a non-compliant one a refusal. It supersedes the
     vehicle's previous certificate. 409 when a newer inspection of the vehicle is already certified
-    or this inspection's certificate was revoked or has expired.
+    or this inspection's certificate was revoked or has expired. `?second_language=ha` prints the paper
+    in English and Hausa (or yo, ig, pcm; en: English only).
     """
     issued = issue_certificate(
-        session, inspection_id=inspection_id, actor=Actor.of_station(station), settings=get_settings()
+        session,
+        inspection_id=inspection_id,
+        actor=Actor.of_station(station),
+        settings=get_settings(),
+        second_language=second_language,
     )
     number = issued.certificate.number
     response.status_code = status.HTTP_201_CREATED if issued.created else status.HTTP_200_OK

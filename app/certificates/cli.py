@@ -278,7 +278,11 @@ def cmd_issue(args: argparse.Namespace) -> int:
 
     with get_sessionmaker()() as session:
         issued = issue_certificate(
-            session, inspection_id=args.inspection_id, actor=Actor.of_cli(), settings=get_settings()
+            session,
+            inspection_id=args.inspection_id,
+            actor=Actor.of_cli(),
+            settings=get_settings(),
+            second_language=args.second_language,
         )
         certificate = issued.certificate
         print(issued_message(certificate.kind, certificate.number, issued.created))
@@ -391,6 +395,11 @@ def add_certificate_commands(commands: Any) -> None:
 
     issue = commands.add_parser("issue-certificate", help="issue an inspection's certificate (admin)")
     issue.add_argument("inspection_id", type=cli_id)
+    issue.add_argument(
+        "--second-language",
+        choices=("en", "ha", "yo", "ig", "pcm"),
+        help="printed under the English (en: English only); default TRIKECERT_PAPER_SECOND_LANGUAGE",
+    )
     issue.set_defaults(handler=cmd_issue)
 
     reissue = commands.add_parser("reissue-certificate", help="reissue a certificate, superseding it (admin)")

@@ -73,6 +73,9 @@ class Certificate(Base):
     qr_payload: Mapped[str] = mapped_column(Text)
     pdf: Mapped[bytes] = mapped_column(LargeBinary, deferred=True)
     pdf_sha256: Mapped[str] = mapped_column(String(64))
+    # The language printed under the English (ha, yo, ig, pcm), or None for English only: kept so
+    # the paper is worded in the same languages whenever it is rendered or stamped again.
+    second_language: Mapped[str | None] = mapped_column(String(8), default=None)
 
     revocation: Mapped[CertificateRevocation | None] = relationship(
         lazy="selectin", back_populates="certificate"

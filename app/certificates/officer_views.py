@@ -66,11 +66,18 @@ def people_of(session: Session, certificate: Certificate, facts: Facts) -> list[
 
 
 @router.post("/inspections/{inspection_id}/certificate")
-def issue_from_page(inspection_id: InspectionId, session: SessionDep, login: PostLogin) -> Response:
-    """Issue (or find) the inspection's certificate, then show it."""
+def issue_from_page(
+    inspection_id: InspectionId, session: SessionDep, login: PostLogin, form: FormDep
+) -> Response:
+    """Issue (or find) the inspection's certificate in the languages chosen, then show it."""
+    chosen = form.get("second_language")
     try:
         issued = issue_certificate(
-            session, inspection_id=inspection_id, actor=Actor.of_user(login.user), settings=get_settings()
+            session,
+            inspection_id=inspection_id,
+            actor=Actor.of_user(login.user),
+            settings=get_settings(),
+            second_language=chosen if isinstance(chosen, str) else None,
         )
     except ServiceError as error:
         set_flash(session, login, error.message.split(": ", 1)[-1])

@@ -11,7 +11,7 @@ many loading cases wrap or move to a second page instead of running into the QR 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal
@@ -19,21 +19,35 @@ from fractions import Fraction
 
 import segno
 
-from app.certificates.facts import CaseFacts, Facts
-from app.documents.chart import Box, chart_height, draw_chart
-from app.documents.layout import BOTTOM, CONTENT_W, MARGIN, PAGE_H, PAGE_W, Layout, Page, line_height
+from app.certificates.facts import CaseFacts, Facts, ReadingFacts
+from app.documents.chart import SECOND_LINE, Box, chart_height, draw_chart
+from app.documents.layout import (
+    BOTTOM,
+    CONTENT_W,
+    MARGIN,
+    PAGE_H,
+    PAGE_W,
+    Layout,
+    Page,
+    line_height,
+    second_size,
+)
 from app.dynamics.pdf import draw_estimates
+from app.i18n.active import current_locale, use_locale
+from app.i18n.active import gettext as _
+from app.i18n.locales import ENGLISH
 from app.stability import LSF_LIMIT
 from app.stability import Layout as AxleLayout
 from app.web.formatting import NOT_RECORDED, fixed, kg, load_kg, local_time, long_date
 from app.wording import (
     case_name,
     document_headline,
-    document_kind,
     document_title,
+    occupancy_sentence,
     rear_weight_heading,
     rules_words,
     verdict_mark,
+    verdict_sentence,
 )
 
 QR_BOX = 56.0  # mm: the QR code's white square, its quiet zone included
@@ -43,15 +57,6 @@ QR_MASK = 1
 REMEDIES_CHART_W = 72.0  # mm: a refusal's chart, with the remedies in the column beside it
 NARROW_CHART_CASES = 7  # up to this many cases, the narrow chart keeps its case names apart
 COMPACT_AFTER = 6  # more failing cases than this: the reasons in one paragraph
-TABLE_HEADINGS = (
-    "Occupants",
-    "Total weight (kg)",
-    "Weight on rear wheels (kg)",
-    "Actual LSF",
-    "Standard (max)",
-    "Variance",
-    "Result",
-)
 COLUMN_WIDTHS = (44.0, 24.0, 30.0, 20.0, 24.0, 20.0, 18.0)
 COLUMN_ALIGN = ("L", "R", "R", "R", "R", "R", "C")
 CELL_PADDING = 1.2  # mm left and right of the text in a table cell
@@ -78,6 +83,7 @@ class CertificateDocument:
     facts: Facts
     verify_url: str
     qr_url: str
+    second_language: str | None = None  # printed under the English (ha, yo, ig, pcm); None: English only
 
 
 def when(moment: datetime) -> str:
@@ -124,7 +130,48 @@ def limit_words(places: int, limit: Fraction = LSF_LIMIT) -> str:
 
 def table_headings(layout: AxleLayout) -> tuple[str, ...]:
     """Table 4's headings: the rear axle's column says wheel or wheels, as the vehicle has."""
-    return tuple(rear_weight_heading(layout.name) if i == 2 else h for i, h in enumerate(TABLE_HEADINGS))
+    return (
+        _("Occupants"),
+        _("Total weight (kg)"),
+        rear_weight_heading(layout.name),
+        _("Actual LSF"),
+        _("Standard (max)"),
+        _("Variance"),
+        _("Result"),
+    )
+
+
+def binding_note() -> str:
+    """What a bilingual paper says of its languages (in each of them)."""
+    return _("The English text is the legally binding one.")
+
+
+def wheel_name(wheel: str, stored: str) -> str:
+    """A wheel's name on the paper: as stored (English), or its translation."""
+    names = {
+        "front_kg": _("Front wheel"),
+        "left_front_kg": _("Left front wheel"),
+        "right_front_kg": _("Right front wheel"),
+        "left_rear_kg": _("Left rear wheel"),
+        "right_rear_kg": _("Right rear wheel"),
+        "rear_kg": _("Rear wheel"),
+        "overall_kg": _("Overall weight"),
+    }
+    return stored if current_locale() == ENGLISH else names.get(wheel, stored)
+
+
+def verdict_words(facts: Facts) -> str:
+    """The verdict sentence: as the facts hold it in English, worded afresh in another language."""
+    if current_locale() == ENGLISH:
+        return facts.verdict
+    return verdict_sentence([(c.occupants, c.compliant) for c in facts.cases], facts.max_compliant_occupants)
+
+
+def occupancy_words(facts: Facts) -> str:
+    """The occupancy sentence: as the facts hold it in English, worded afresh in another language."""
+    if current_locale() == ENGLISH:
+        return facts.occupancy
+    return occupancy_sentence(facts.compliant, facts.max_compliant_occupants)
 
 
 def signed_to(value: Decimal, places: int) -> str:
@@ -138,8 +185,17 @@ def refusal_reason(case: CaseFacts, places: int = MIN_PLACES, limit_value: Fract
     excess = -case.variance
     name, lsf, limit = case_name(case.occupants), fixed(case.lsf, places), limit_words(places, limit_value)
     if excess == 0:
-        return f"{name}: LSF {lsf} equals the limit {limit}; it must be below it."
-    return f"{name}: LSF {lsf} is above the limit {limit} by {fixed(excess, places)}."
+        return _("%(case)s: LSF %(lsf)s equals the limit %(limit)s; it must be below it.") % {
+            "case": name,
+            "lsf": lsf,
+            "limit": limit,
+        }
+    return _("%(case)s: LSF %(lsf)s is above the limit %(limit)s by %(excess)s.") % {
+        "case": name,
+        "lsf": lsf,
+        "limit": limit,
+        "excess": fixed(excess, places),
+    }
 
 
 def render_pdf(document: CertificateDocument) -> bytes:
@@ -149,11 +205,17 @@ def render_pdf(document: CertificateDocument) -> bytes:
 
 def render_with_layout(document: CertificateDocument) -> tuple[bytes, Layout]:
     """The PDF bytes and where the layout put its graphics (for the geometry tests)."""
+    # English first, whatever language the request that issues it is answered in.
+    with use_locale(ENGLISH):
+        return _render(document)
+
+
+def _render(document: CertificateDocument) -> tuple[bytes, Layout]:
     facts = document.facts
     name = f"{title(document.kind)} {document.number}"
     if document.kind != "compliant":
         name = f"NOT CERTIFIED: {name}"
-    pdf = Page(continued=f"{name} (continued)")
+    pdf = Page(continued=f"{name} (continued)", second_language=document.second_language)
     pdf.set_creation_date(document.issued_at)
     pdf.set_title(f"{title(document.kind)} {document.number}")
     pdf.set_author(facts.authority)
@@ -188,13 +250,17 @@ def _headline(pdf: Page, document: CertificateDocument) -> None:
     facts = document.facts
     refusal = document.kind != "compliant"
     inner = CONTENT_W - 2 * HEADLINE_PAD
-    lines: list[tuple[str, float, bool]] = [
-        (document_headline(document.kind, facts.max_compliant_occupants), HEADLINE_SIZE, True)
-    ]
+    lines: list[tuple[str, float, bool]] = []
+    for index, text in enumerate(
+        pdf.both(lambda: document_headline(document.kind, facts.max_compliant_occupants))
+    ):
+        lines.append((text, HEADLINE_SIZE if index == 0 else second_size(HEADLINE_SIZE), True))
     if refusal:
-        lines.append((facts.occupancy, 13, True))
+        said, size, bold = (lambda: occupancy_words(facts)), 13.0, True
     else:
-        lines.append((facts.verdict, 10, False))
+        said, size, bold = (lambda: verdict_words(facts)), 10.0, False
+    for index, text in enumerate(pdf.both(said)):
+        lines.append((text, size if index == 0 else second_size(size), bold))
     height = sum(pdf.measure(inner, text, size, bold) for text, size, bold in lines) + 2 * HEADLINE_PAD
     top = MARGIN
     if refusal:
@@ -222,30 +288,42 @@ def _header(pdf: Page, document: CertificateDocument) -> None:
     # beside it a little lower, level with the code itself.
     qr_top = pdf.get_y() + 0.5
     top = qr_top + 2.5
-    validity = "Valid" if document.kind == "compliant" else "Refusal stands"
+    compliant = document.kind == "compliant"
+    address = {"verify": document.verify_url, "record": f"{document.verify_url}/{document.number}"}
     y = pdf.box(MARGIN, top, left_w, document.facts.authority, 11, bold=True)
-    y = pdf.box(MARGIN, y, left_w, title(document.kind), 20, bold=True)
-    y = pdf.box(MARGIN, y, left_w, f"{document_kind(document.kind).capitalize()} number", 9)
+    y = pdf.words(MARGIN, y, left_w, lambda: title(document.kind), 20, bold=True)
+    y = pdf.words(MARGIN, y, left_w, lambda: _("Certificate number") if compliant else _("Refusal number"), 9)
     y = pdf.box(MARGIN, y, left_w, document.number, NUMBER_SIZE, bold=True)
-    y = pdf.box(
+
+    def dated() -> str:
+        dates = {"issued": day(document.issued_at), "until": day(document.expires_at)}
+        if compliant:
+            return _("Issued %(issued)s. Valid until %(until)s.") % dates
+        return _("Issued %(issued)s. Refusal stands until %(until)s.") % dates
+
+    y = pdf.words(MARGIN, y, left_w, dated, 10, bold=True)
+    y = pdf.words(
         MARGIN,
         y,
         left_w,
-        f"Issued {day(document.issued_at)}. {validity} until {day(document.expires_at)}.",
-        10,
-        bold=True,
-    )
-    y = pdf.box(
-        MARGIN,
-        y,
-        left_w,
-        "This paper shows the record as issued. Whether it is still in force (or was revoked, "
-        f"superseded, or has expired) is at {document.verify_url}/{document.number}",
+        lambda: (
+            _(
+                "This paper shows the record as issued. Whether it is still in force (or was revoked, "
+                "superseded, or has expired) is at %(record)s"
+            )
+            % address
+        ),
         8.5,
     )
-    y = pdf.box(
-        MARGIN, y, left_w, f"Scan to verify, or visit {document.verify_url} and enter the number", 8.5
+    y = pdf.words(
+        MARGIN,
+        y,
+        left_w,
+        lambda: _("Scan to verify, or visit %(verify)s and enter the number") % address,
+        8.5,
     )
+    if pdf.second_language is not None:
+        y = pdf.words(MARGIN, y, left_w, binding_note, 8.5, bold=True)
     draw_qr(pdf, document.qr_url, PAGE_W - MARGIN - QR_BOX, qr_top, QR_BOX)
     bottom = max(y + 2, qr_top + QR_BOX + 0.5)
     pdf.set_draw_color(0, 0, 0)
@@ -268,77 +346,108 @@ def _page_frames(pdf: Page) -> None:
     pdf.set_draw_color(0, 0, 0)
 
 
+Say = Callable[[], str]
+
+
+def _fixed(value: str) -> Say:
+    """A value printed as it is in every language (a plate, a make, a number)."""
+    return lambda: value
+
+
 def _particulars(pdf: Page, facts: Facts) -> None:
     vehicle, inspection = facts.vehicle, facts.inspection
-    columns = (
+    occupant = {"id": inspection.id, "mass": kg(inspection.occupant_mass_kg)}
+    columns: tuple[tuple[float, float, Say, list[tuple[Say, Say]]], ...] = (
         (
             MARGIN,
             86.0,
-            "Vehicle",
+            lambda: _("Vehicle"),
             [
-                ("Registration", vehicle.registration_number),
-                ("Make", vehicle.make),
-                ("Model", vehicle.model),
-                ("Year", str(vehicle.model_year) if vehicle.model_year else NOT_RECORDED),
-                ("Chassis number", vehicle.chassis_number or NOT_RECORDED),
+                (lambda: _("Registration"), _fixed(vehicle.registration_number)),
+                (lambda: _("Make"), _fixed(vehicle.make)),
+                (lambda: _("Model"), _fixed(vehicle.model)),
+                (lambda: _("Year"), _fixed(str(vehicle.model_year) if vehicle.model_year else NOT_RECORDED)),
+                (lambda: _("Chassis number"), _fixed(vehicle.chassis_number or NOT_RECORDED)),
             ],
         ),
         (
             MARGIN + 92,
             CONTENT_W - 92,
-            "Inspection",
+            lambda: _("Inspection"),
             [
-                ("Station", inspection.station or NOT_RECORDED),
-                ("Scale calibration", facts.calibration),
-                ("Date and time", when(inspection.weighed_at)),
-                ("Inspection", f"no. {inspection.id}; occupant {kg(inspection.occupant_mass_kg)} kg"),
+                (lambda: _("Station"), _fixed(inspection.station or NOT_RECORDED)),
+                (lambda: _("Scale calibration"), _fixed(facts.calibration)),
+                (lambda: _("Date and time"), _fixed(when(inspection.weighed_at))),
+                (lambda: _("Inspection"), lambda: _("no. %(id)s; occupant %(mass)s kg") % occupant),
             ],
         ),
     )
     top = pdf.get_y()
     bottoms = []
     for x, width, heading, rows in columns:
-        y = pdf.box(x, top, width, heading, 11, bold=True)
+        y = pdf.words(x, top, width, heading, 11, bold=True)
         for label, value in rows:
-            below_label = pdf.box(x, y, LABEL_W - 1, label, 9)
-            below_value = pdf.box(x + LABEL_W, y, width - LABEL_W, value, 9, bold=True)
+            below_label = pdf.words(x, y, LABEL_W - 1, label, 9)
+            below_value = pdf.words(x + LABEL_W, y, width - LABEL_W, value, 9, bold=True)
             y = max(below_label, below_value)
         bottoms.append(y)
     # Who stands behind it: one full-width line (in a column each name and badge would wrap).
-    y = pdf.box(
+    people = {"recorded": facts.recorded_by, "issuer": facts.issuer}
+    y = pdf.words(
         MARGIN,
         max(bottoms) + 1.5,
         CONTENT_W,
-        f"Recorded by {facts.recorded_by}. Issued by {facts.issuer}.",
+        lambda: _("Recorded by %(recorded)s. Issued by %(issuer)s.") % people,
         9,
     )
     pdf.set_xy(MARGIN, y + 3)
 
 
+def reading_words(reading: ReadingFacts) -> str:
+    """One wheel's averaged reading, and how often it was read."""
+    figures = {
+        "wheel": wheel_name(reading.wheel, reading.name),
+        "mean": kg(reading.mean_kg),
+        "count": reading.count,
+        "spread": kg(reading.spread_kg),
+    }
+    if reading.count == 1:
+        return _("%(wheel)s: %(mean)s kg (read once)") % figures
+    return _("%(wheel)s: %(mean)s kg (read %(count)s times, spread %(spread)s kg)") % figures
+
+
 def _readings(pdf: Page, facts: Facts) -> None:
     half = (CONTENT_W - 4) / 2
-    texts = []
-    for reading in facts.readings:
-        times = "once" if reading.count == 1 else f"{reading.count} times, spread {kg(reading.spread_kg)} kg"
-        texts.append(f"{reading.name}: {kg(reading.mean_kg)} kg (read {times})")
-    rows = [texts[i : i + 2] for i in range(0, len(texts), 2)]
-    height = line_height(11) + sum(max(pdf.measure(half, t, 9) for t in row) for row in rows)
+    says: list[Say] = [lambda r=reading: reading_words(r) for reading in facts.readings]  # type: ignore[misc]
+    rows = [says[i : i + 2] for i in range(0, len(says), 2)]
+    title_h = pdf.measure_words(CONTENT_W, lambda: _("Averaged readings"), 11, bold=True)
+    height = title_h + sum(max(pdf.measure_words(half, say, 9) for say in row) for row in rows)
     pdf.room(height)
-    y = pdf.box(MARGIN, pdf.get_y(), CONTENT_W, "Averaged readings", 11, bold=True)
+    y = pdf.words(MARGIN, pdf.get_y(), CONTENT_W, lambda: _("Averaged readings"), 11, bold=True)
     for row in rows:
-        y = max(pdf.box(MARGIN + i * (half + 4), y, half, text, 9) for i, text in enumerate(row))
+        y = max(pdf.words(MARGIN + i * (half + 4), y, half, say, 9) for i, say in enumerate(row))
     pdf.set_xy(MARGIN, y + 2)
 
 
-def _reasons(facts: Facts, places: int) -> list[tuple[str, float]]:
+def _reasons(facts: Facts, places: int) -> list[tuple[Say, float]]:
     failing = facts.failing_cases
+    limit = facts.axles.limit
     if len(failing) <= COMPACT_AFTER:
-        return [(f"- {refusal_reason(case, places, facts.axles.limit)}", 8.5) for case in failing]
-    text = "; ".join(
-        f"{case_name(c.occupants)}: LSF {fixed(c.lsf, places)}, {fixed(-c.variance, places)} over"
-        for c in failing
-    )
-    return [(f"Limit {limit_words(places, facts.axles.limit)}. {text}.", 8)]
+        return [(lambda c=case: f"- {refusal_reason(c, places, limit)}", 8.5) for case in failing]  # type: ignore[misc]
+
+    def compact() -> str:
+        text = "; ".join(
+            _("%(case)s: LSF %(lsf)s, %(excess)s over")
+            % {
+                "case": case_name(c.occupants),
+                "lsf": fixed(c.lsf, places),
+                "excess": fixed(-c.variance, places),
+            }
+            for c in failing
+        )
+        return _("Limit %(limit)s. %(reasons)s.") % {"limit": limit_words(places, limit), "reasons": text}
+
+    return [(compact, 8)]
 
 
 def _reasons_block(pdf: Page, document: CertificateDocument, places: int) -> None:
@@ -346,14 +455,18 @@ def _reasons_block(pdf: Page, document: CertificateDocument, places: int) -> Non
     facts = document.facts
     if document.kind == "compliant":
         return
-    blocks: list[tuple[str, float, bool]] = [
-        (f"{facts.verdict} Reasons for refusal (cases that fail and by how much):", 8.5, True)
-    ]
-    blocks += [(text, size, False) for text, size in _reasons(facts, places)]
-    pdf.room(sum(pdf.measure(CONTENT_W, text, size, bold) for text, size, bold in blocks))
+
+    def heading() -> str:
+        return _("%(verdict)s Reasons for refusal (cases that fail and by how much):") % {
+            "verdict": verdict_words(facts)
+        }
+
+    blocks: list[tuple[Say, float, bool]] = [(heading, 8.5, True)]
+    blocks += [(say, size, False) for say, size in _reasons(facts, places)]
+    pdf.room(sum(pdf.measure_words(CONTENT_W, say, size, bold) for say, size, bold in blocks))
     y = pdf.get_y()
-    for text, size, bold in blocks:
-        y = pdf.box(MARGIN, y, CONTENT_W, text, size, bold=bold)
+    for say, size, bold in blocks:
+        y = pdf.words(MARGIN, y, CONTENT_W, say, size, bold=bold)
     pdf.set_xy(MARGIN, y + 2)
 
 
@@ -374,82 +487,116 @@ def _table(pdf: Page, facts: Facts, places: int) -> None:
     # third of the page's rendering time for rows that are always one line.
     size = 9.0 if len(facts.cases) <= COMPACT_AFTER else 8.0
     rows = [_row(case, places, facts.axles.limit) for case in facts.cases]
-    headings = table_headings(facts.axles)
+    # A bilingual paper names each case again, under the English, in the second language.
+    names = [pdf.both(lambda c=case: case_name(c.occupants))[1:] for case in facts.cases]  # type: ignore[misc]
+    bilingual = any(names)
     pdf.style(size)
     widest = max(
         pdf.get_string_width(value) / (width - 2 * CELL_PADDING)
         for row in rows
         for value, width in zip(row, COLUMN_WIDTHS, strict=True)
     )
+    first = COLUMN_WIDTHS[0] - 2 * CELL_PADDING
+    scale = second_size(size) / size
+    widest = max([widest, *(pdf.get_string_width(n) * scale / first for found in names for n in found)])
     size = min(size, size / widest)  # shrink the table's text until its widest cell fits
-    row_h = line_height(size) + 0.8
+    row_h = line_height(size) + 0.8 + (line_height(second_size(size)) if bilingual else 0)
+    headings: list[Say] = [lambda i=i: table_headings(facts.axles)[i] for i in range(len(COLUMN_WIDTHS))]  # type: ignore[misc]
     heading_h = max(
-        pdf.measure(width - 2 * CELL_PADDING, heading, size, bold=True)
-        for width, heading in zip(COLUMN_WIDTHS, headings, strict=True)
+        pdf.measure_words(width - 2 * CELL_PADDING, say, size, bold=True)
+        for width, say in zip(COLUMN_WIDTHS, headings, strict=True)
     )
     limit = facts.axles.limit_text
-    note = (
-        f"C: compliant (LSF below {limit}). NC: not compliant. Variance = {limit} - LSF. "
-        "LSF = rear / total weight."
-    )
-    if any(case.measured for case in facts.cases):
-        note += " * weighed directly with the occupants or ballast aboard."
-    note_h = pdf.measure(CONTENT_W, note, 7.5)
-    pdf.room(line_height(11) + heading_h + 1.2 + row_h * len(rows) + note_h)
-    top = pdf.box(MARGIN, pdf.get_y(), CONTENT_W, "Loading cases (Table 4 of the study)", 11, bold=True)
+    measured = any(case.measured for case in facts.cases)
+
+    def note() -> str:
+        text = _(
+            "C: compliant (LSF below %(limit)s). NC: not compliant. Variance = %(limit)s - LSF. "
+            "LSF = rear / total weight."
+        ) % {"limit": limit}
+        if measured:
+            text += " " + _("* weighed directly with the occupants or ballast aboard.")
+        return text
+
+    def title() -> str:
+        return _("Loading cases (Table 4 of the study)")
+
+    note_h = pdf.measure_words(CONTENT_W, note, 7.5)
+    title_h = pdf.measure_words(CONTENT_W, title, 11, bold=True)
+    pdf.room(title_h + heading_h + 1.2 + row_h * len(rows) + note_h)
+    top = pdf.words(MARGIN, pdf.get_y(), CONTENT_W, title, 11, bold=True)
     x = MARGIN
     pdf.set_fill_color(225, 225, 225)
     pdf.set_draw_color(0, 0, 0)
-    for width, align, heading in zip(COLUMN_WIDTHS, COLUMN_ALIGN, headings, strict=True):
+    for width, align, say in zip(COLUMN_WIDTHS, COLUMN_ALIGN, headings, strict=True):
         pdf.rect(x, top, width, heading_h + 1.2, style="DF")
-        pdf.box(x + CELL_PADDING, top + 0.6, width - 2 * CELL_PADDING, heading, size, bold=True, align=align)
+        pdf.words(x + CELL_PADDING, top + 0.6, width - 2 * CELL_PADDING, say, size, bold=True, align=align)
         x += width
     y = top + heading_h + 1.2
     pdf.style(size)
     pdf.c_margin = CELL_PADDING
-    for row in rows:
+    for row, translated in zip(rows, names, strict=True):
         pdf.set_xy(MARGIN, y)
-        for width, align, value in zip(COLUMN_WIDTHS, COLUMN_ALIGN, row, strict=True):
-            pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
+        for index, (width, align, value) in enumerate(zip(COLUMN_WIDTHS, COLUMN_ALIGN, row, strict=True)):
+            # A bilingual paper's case name is set below, in two lines: its cell is drawn empty.
+            shown = "" if bilingual and index == 0 else pdf.printable(value)
+            pdf.cell(width, row_h, shown, border=1, align=align, new_x="RIGHT", new_y="TOP")
+        if bilingual:
+            below = pdf.box(MARGIN + CELL_PADDING, y + 0.4, first, row[0], size)
+            for text in translated:
+                pdf.box(MARGIN + CELL_PADDING, below, first, text, second_size(size))
+            pdf.style(size)
+            pdf.c_margin = CELL_PADDING
         y += row_h
     pdf.c_margin = 0
-    y = pdf.box(MARGIN, y + 0.5, CONTENT_W, note, 7.5)
+    y = pdf.words(MARGIN, y + 0.5, CONTENT_W, note, 7.5)
     pdf.set_xy(MARGIN, y)
 
 
 def _chart(pdf: Page, document: CertificateDocument) -> None:
     """The chart, and beside it the rules the verdict was decided under."""
-    heading = line_height(11) + 1
+    limit = {"limit": document.facts.axles.limit_text}
+
+    def words() -> str:
+        return _("LSF per loading case against the limit %(limit)s") % limit
+
+    heading = pdf.measure_words(120, words, 11, bold=True) + 1
+    if pdf.second_language is not None:
+        heading += 2 * SECOND_LINE  # the chart's legend and axis title, each a line more
     height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
     if height is None:
         pdf.new_page()
         height = chart_height(BOTTOM - pdf.get_y() - 3 - heading)
         assert height is not None
-    remedies = document.facts.remedies_sentence if document.kind == "refusal" else None
-    words = f"LSF per loading case against the limit {document.facts.axles.limit_text}"
-    top = pdf.box(MARGIN, pdf.get_y() + 3, 120, words, 11, bold=True)
+    refusal = document.kind == "refusal" and bool(document.facts.remedies_sentence)
+    top = pdf.words(MARGIN, pdf.get_y() + 3, 120, words, 11, bold=True)
     # A refusal's remedies stand beside a narrower chart, under the rules, so the page stays one page.
-    narrow = remedies and len(document.facts.cases) <= NARROW_CHART_CASES
+    narrow = refusal and len(document.facts.cases) <= NARROW_CHART_CASES
     width = REMEDIES_CHART_W if narrow else 100
     box = Box(MARGIN + 12, top + 1, width, height)
-    area = draw_chart(pdf, box, document.facts.cases, limit=document.facts.axles.limit)
+    area = draw_chart(pdf, box, document.facts.cases, limit=document.facts.axles.limit, say=pdf.both)
     pdf.region("chart", *area)
-    rules = (
-        f"Decided exactly under the rule: {rules_words(document.facts.inspection.rules_version)}; "
-        "the figures are rounded for display."
-    )
+
+    def rules() -> str:
+        return _("Decided exactly under the rule: %(rule)s; the figures are rounded for display.") % {
+            "rule": rules_words(document.facts.inspection.rules_version)
+        }
+
     beside = area[0] + area[2] + 4
     column = PAGE_W - MARGIN - beside
-    y = pdf.box(beside, area[1] + 6, column, rules, 7.5)
-    if not remedies:
+    y = pdf.words(beside, area[1] + 6, column, rules, 7.5)
+    if not refusal:
         return
-    paragraph = f"What would make it comply: {remedies}"
-    if y + 2 + pdf.measure(column, paragraph, 7.5) <= area[1] + area[3]:
-        pdf.box(beside, y + 2, column, paragraph, 7.5)
+
+    def paragraph() -> str:
+        return _("What would make it comply: %(remedies)s") % {"remedies": document.facts.remedies_sentence}
+
+    if y + 2 + pdf.measure_words(column, paragraph, 7.5) <= area[1] + area[3]:
+        pdf.words(beside, y + 2, column, paragraph, 7.5)
         return
     pdf.set_xy(MARGIN, area[1] + area[3] + 2)
-    pdf.room(pdf.measure(CONTENT_W, paragraph, 8.5))
-    pdf.box(MARGIN, pdf.get_y(), CONTENT_W, paragraph, 8.5)
+    pdf.room(pdf.measure_words(CONTENT_W, paragraph, 8.5))
+    pdf.words(MARGIN, pdf.get_y(), CONTENT_W, paragraph, 8.5)
     pdf.set_xy(MARGIN, area[1] + area[3] + 3)
 
 

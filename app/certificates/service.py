@@ -22,9 +22,11 @@ from app.certificates.models import Certificate, CertificateAudit, CertificateRe
 from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
-from app.config import Settings
+from app.config import SECOND_LANGUAGES, Settings
 from app.db import utcnow
 from app.errors import Conflict, InvalidInput
+from app.i18n.active import use_locale
+from app.i18n.locales import ENGLISH
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
 from app.stations.scale import CalibrationRefused
@@ -59,14 +61,39 @@ def _current_of_vehicle(session: Session, vehicle_id: int) -> Certificate | None
     return session.scalars(query).first()
 
 
+def paper_language(choice: str | None, settings: Settings) -> str | None:
+    """The language printed under the English: the one chosen ('en' for English only), else the
+    setting's; None for English only. Any other value is refused, naming the field."""
+    if choice is None or choice == "":
+        choice = settings.paper_second_language
+    if choice in ("", ENGLISH):
+        return None
+    if choice not in SECOND_LANGUAGES:
+        raise InvalidInput(
+            f"second_language: {choice[:20]!r} is not a paper language; choose en (English only) or one "
+            f"of {', '.join(SECOND_LANGUAGES)}",
+            field="second_language",
+            rule="language",
+        )
+    return choice
+
+
 def issue_certificate(
-    session: Session, *, inspection_id: int, actor: Actor, settings: Settings, now: datetime | None = None
+    session: Session,
+    *,
+    inspection_id: int,
+    actor: Actor,
+    settings: Settings,
+    now: datetime | None = None,
+    second_language: str | None = None,
 ) -> Issued:
     """Certify an inspection (a refusal when it is not compliant); the existing one if already certified.
 
     A station may certify only its own inspections. A newer certified inspection of the same
-    vehicle, or a revoked certificate of this one, is a 409: weigh the vehicle again.
+    vehicle, or a revoked certificate of this one, is a 409: weigh the vehicle again. The paper is
+    printed in English and `second_language` (see paper_language); an existing one stays as issued.
     """
+    language = paper_language(second_language, settings)
     now = now or utcnow()
     inspection = get_inspection(session, inspection_id, station_id=actor.station_id)
     number = allocate_number(session, now.year)
@@ -117,6 +144,7 @@ def issue_certificate(
         supersedes=current,
         action="issue",
         reason=None,
+        second_language=language,
     )
     return Issued(certificate=certificate, created=True)
 
@@ -160,6 +188,7 @@ def reissue_certificate(
         supersedes=old,
         action="reissue",
         reason=reason,
+        second_language=old.second_language,  # the new paper speaks as the one it replaces
     )
 
 
@@ -250,18 +279,22 @@ def _create(
     supersedes: Certificate | None,
     action: Literal["issue", "reissue"],
     reason: str | None,
+    second_language: str | None = None,
 ) -> Certificate:
     """Sign, render and store a certificate with its audit entries, and commit."""
     if settings.require_calibration and inspection.calibration_valid_until is None:
         session.rollback()  # the number allocated is not used
         raise calibration_required(inspection)
-    facts = facts_of(
-        session,
-        inspection,
-        authority=settings.issuing_authority,
-        issued_by=actor.shown_as,
-        ballast_x_m=settings.ballast_x_m,
-    )
+    # The facts are frozen in English, whatever language the issuing page is shown in: English is
+    # the paper's binding text (the second language is worded from them when the paper is drawn).
+    with use_locale(ENGLISH):
+        facts = facts_of(
+            session,
+            inspection,
+            authority=settings.issuing_authority,
+            issued_by=actor.shown_as,
+            ballast_x_m=settings.ballast_x_m,
+        )
     kind = "compliant" if facts.compliant else "refusal"
     signer = current_signer(session, settings)
     claims = Claims(
@@ -286,6 +319,7 @@ def _create(
             facts=facts,
             verify_url=base,
             qr_url=qr_url_of(settings.base_url, number, token),
+            second_language=second_language,
         )
     )
     number_parts = parse_number(number)
@@ -310,6 +344,7 @@ def _create(
         qr_payload=token,
         pdf=pdf,
         pdf_sha256=_sha256(pdf),
+        second_language=second_language,
     )
     session.add(certificate)
     session.flush()

@@ -32,6 +32,8 @@ from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
 from app.certificates.records import Status
 from app.documents import fonts
 from app.documents.layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
+from app.i18n.active import gettext as _
+from app.i18n.active import use_locale
 from app.web.formatting import long_date
 from app.wording import document_kind, status_headline_on
 
@@ -61,6 +63,7 @@ class Stamp:
     word: str
     headline: str
     detail: str
+    second_word: str | None = None  # a bilingual paper's status word in its second language
 
     def etag(self, original_sha256: str) -> str:
         """An ETag for the stamped file, from the original's hash and the stamp's words."""
@@ -84,7 +87,20 @@ def stamp_of(certificate: Certificate, status: Status, verify_address: str) -> S
     else:
         return None
     detail = f"Not in force: do not rely on this paper. The record: {verify_address}/{certificate.number}"
-    return Stamp(status=status, word=status.upper(), headline=headline, detail=detail)
+    second_word = None
+    if certificate.second_language is not None:
+        with use_locale(certificate.second_language):
+            translated = status_word(status)
+        second_word = None if translated == status.upper() else translated
+    return Stamp(
+        status=status, word=status.upper(), headline=headline, detail=detail, second_word=second_word
+    )
+
+
+def status_word(status: Status) -> str:
+    """The word across a paper no longer in force, in the active language (a bilingual paper's second)."""
+    words = {"revoked": _("REVOKED"), "superseded": _("SUPERSEDED"), "expired": _("EXPIRED")}
+    return words.get(status, status.upper())
 
 
 def stamped_pdf(original: bytes, stamp: Stamp) -> bytes:
@@ -113,7 +129,7 @@ def _overlay(stamp: Stamp, struck: bool) -> bytes:
         pdf.set_line_width(FRAME_W)
         pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
         _band(pdf, stamp)
-        _diagonal(pdf, stamp.word)
+        _diagonal(pdf, stamp.word, stamp.second_word)
         if first and struck:
             _strike(pdf)
     return bytes(pdf.output())
@@ -157,8 +173,9 @@ def _band(pdf: Page, stamp: Stamp) -> None:
     pdf.set_text_color(0, 0, 0)
 
 
-def _diagonal(pdf: FPDF, word: str) -> None:
-    """The status word, large, from the bottom left to the top right of the page."""
+def _diagonal(pdf: FPDF, word: str, second: str | None = None) -> None:
+    """The status word, large, from the bottom left to the top right of the page (and, on a
+    bilingual paper, its translation in smaller letters just below it, along the same line)."""
     pdf.set_font(fonts.FAMILY, "B", DIAGONAL_SIZE)
     angle = math.degrees(math.atan2(PAGE_H, PAGE_W))
     size = DIAGONAL_SIZE
@@ -169,6 +186,9 @@ def _diagonal(pdf: FPDF, word: str) -> None:
     width = pdf.get_string_width(word)
     cx, cy = PAGE_W / 2, PAGE_H / 2
     cap = size * 25.4 / 72 * 0.714  # Noto Sans' capital height, so the word is centred on the page
+    if second is not None:
+        _second_diagonal(pdf, second, angle, diagonal, cx, cy + cap / 2 + 6)
+        pdf.set_font(fonts.FAMILY, "B", size)
     pdf.set_text_color(*STAMP_RGB)
     pdf.set_draw_color(*STAMP_RGB)
     pdf.set_line_width(0.5)
@@ -179,4 +199,30 @@ def _diagonal(pdf: FPDF, word: str) -> None:
         pdf.rotation(angle, cx, cy),
     ):
         pdf.text(cx - width / 2, cy + cap / 2, word)
+    pdf.set_text_color(0, 0, 0)
+
+
+def _second_diagonal(pdf: FPDF, word: str, angle: float, diagonal: float, cx: float, below: float) -> None:
+    """A bilingual paper's status word in its second language, under the English along the diagonal."""
+    size = DIAGONAL_SIZE * 0.4
+    pdf.set_font(fonts.FAMILY, "B", size)
+    while pdf.get_string_width(word) > diagonal and size > 12:
+        size -= 2
+        pdf.set_font(fonts.FAMILY, "B", size)
+    cap = size * 25.4 / 72 * 0.714
+    pdf.set_text_color(*STAMP_RGB)
+    pdf.set_draw_color(*STAMP_RGB)
+    pdf.set_line_width(0.3)
+    with (
+        pdf.local_context(
+            fill_opacity=DIAGONAL_OPACITY, stroke_opacity=OUTLINE_OPACITY, text_mode=TextMode.FILL_STROKE
+        ),
+        pdf.rotation(angle, cx, PAGE_H / 2),
+    ):
+        shaped = fonts.needs_shaping(word)  # a tone mark over a dotted capital (Yoruba's RỌ́PÒ)
+        if shaped:
+            pdf.set_text_shaping(True)
+        pdf.text(cx - pdf.get_string_width(word) / 2, below + cap, word)
+        if shaped:
+            pdf.set_text_shaping(False)
     pdf.set_text_color(0, 0, 0)

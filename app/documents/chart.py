@@ -8,7 +8,7 @@ told by colour alone. The chart's text is set in the certificate's embedded font
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
 from fractions import Fraction
@@ -17,6 +17,7 @@ from typing import Protocol
 from fpdf import FPDF
 
 from app.documents import fonts
+from app.i18n.active import gettext as _
 from app.stability import LSF_LIMIT
 from app.web.chart import short_label
 from app.wording import verdict_mark
@@ -75,15 +76,43 @@ def chart_height(room: float) -> float | None:
     return height if height >= MIN_H else None
 
 
+SECOND_LINE = 3.5  # mm: a bilingual chart's translated legend and axis title, each a line more
+
+
+def _fitted(pdf: FPDF, text: str, width: float, size: float = 7) -> None:
+    """Set the chart's regular face at `size` points, or smaller until `text` is `width` mm wide."""
+    pdf.set_font(fonts.FAMILY, "", size)
+    wide = pdf.get_string_width(text)
+    if wide > width:
+        pdf.set_font(fonts.FAMILY, "", size * width / wide)
+
+
 def draw_chart(
-    pdf: FPDF, box: Box, cases: Sequence[ChartCase], *, limit: Fraction = LSF_LIMIT
+    pdf: FPDF,
+    box: Box,
+    cases: Sequence[ChartCase],
+    *,
+    limit: Fraction = LSF_LIMIT,
+    say: Callable[[Callable[[], str]], list[str]] | None = None,
 ) -> tuple[float, float, float, float]:
     """Draw the chart of LSF per loading case below `box.y`, against the layout's `limit` (2/3 for the
-    delta); returns the area it covers (x, y, w, h)."""
-    box = Box(box.x, box.y + ABOVE, box.w, box.h)
+    delta); returns the area it covers (x, y, w, h). `say` words the legend and the axis title in
+    the paper's languages (English, then its translation a line lower)."""
+    limit_text = f"{limit.numerator}/{limit.denominator}"
+
+    def legend_words() -> str:
+        return _("Shaded: unstable (LSF at or above %(limit)s)") % {"limit": limit_text}
+
+    def axis_words() -> str:
+        return _("Loading case (occupants)")
+
+    legend = say(legend_words) if say else [legend_words()]
+    axis = say(axis_words) if say else [axis_words()]
+    above = ABOVE + SECOND_LINE * (len(legend) - 1)
+    below = BELOW + SECOND_LINE * (len(axis) - 1)
+    box = Box(box.x, box.y + above, box.w, box.h)
     values = [float(case.lsf) for case in cases]
     low, high = axis_range(values, limit)
-    limit_text = f"{limit.numerator}/{limit.denominator}"
 
     def y_of(value: float) -> float:
         return box.y + box.h * (high - value) / (high - low)
@@ -97,7 +126,11 @@ def draw_chart(
     pdf.set_font(fonts.FAMILY, "", 7)
     pdf.text(box.x - 9, box.y - 2.5, "LSF")
     pdf.set_text_color(70, 70, 70)
-    pdf.text(box.x + 2, box.y - 2.5, f"Shaded: unstable (LSF at or above {limit_text})")
+    pdf.text(box.x + 2, box.y - 2.5 - SECOND_LINE * (len(legend) - 1), legend[0])
+    for line in legend[1:]:
+        _fitted(pdf, line, box.w + RIGHT - 2)
+        pdf.text(box.x + 2, box.y - 2.5, line)
+    pdf.set_font(fonts.FAMILY, "", 7)
 
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.3)
@@ -140,6 +173,13 @@ def draw_chart(
         label = short_label(case.occupants)
         pdf.text(cx - pdf.get_string_width(label) / 2, box.y + box.h + 4, label)
     pdf.set_font(fonts.FAMILY, "", 7)
-    pdf.text(box.x + box.w / 2 - 14, box.y + box.h + 8.5, "Loading case (occupants)")
+    pdf.text(box.x + box.w / 2 - 14, box.y + box.h + 8.5, axis[0])
+    for line in axis[1:]:
+        _fitted(pdf, line, box.w + RIGHT - 2)
+        pdf.text(
+            max(box.x - LEFT + 1, box.x + box.w / 2 - pdf.get_string_width(line) / 2),
+            box.y + box.h + 8.5 + SECOND_LINE,
+            line,
+        )
     pdf.set_line_width(0.2)
-    return box.x - LEFT, box.y - ABOVE, box.w + LEFT + RIGHT, box.h + ABOVE + BELOW
+    return box.x - LEFT, box.y - above, box.w + LEFT + RIGHT, box.h + above + below

@@ -14,9 +14,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from fpdf import FPDF
+from fpdf.drawing_primitives import DeviceGray
 from fpdf.line_break import Fragment
 
 from app.documents import fonts
+from app.i18n.active import gettext as _
+from app.i18n.active import use_locale
+from app.i18n.locales import ENGLISH
 
 MARGIN = 15.0
 PAGE_W = 210.0
@@ -27,11 +31,20 @@ FOOTER_H = 6.0  # the page line (number, page i of n) at the foot of every page
 BOTTOM = PAGE_H - FOOT - FOOTER_H
 LEADING = 1.45
 PT = 25.4 / 72  # mm per point
+SECOND_SCALE = 0.82  # a bilingual paper's translation: this much of its English line's size
+SECOND_MIN = 6.5  # pt: never smaller than this
+SECOND_RGB = (64, 64, 64)  # a translation's colour on white: lighter than the English, still dark
+BLACK = DeviceGray(0)
 
 
 def line_height(size: float) -> float:
     """The distance between two lines of text of `size` points (mm)."""
     return round(size * PT * LEADING, 3)
+
+
+def second_size(size: float) -> float:
+    """The size (pt) a translation is set at under an English line of `size` points."""
+    return max(SECOND_MIN, round(size * SECOND_SCALE, 2))
 
 
 @dataclass(frozen=True)
@@ -57,10 +70,12 @@ class Layout:
 class Page(FPDF):
     """fpdf2 with the embedded font, measured text boxes and a cursor that breaks pages."""
 
-    def __init__(self, continued: str) -> None:
+    def __init__(self, continued: str, second_language: str | None = None) -> None:
         super().__init__(orientation="portrait", unit="mm", format="A4")
         self.layout = Layout()
         self.continued = continued
+        # A bilingual paper (like the Welsh MOT certificate): each English line, then its translation.
+        self.second_language = second_language
         self._embedded = fonts.install(self)
         self.set_auto_page_break(auto=False)
         self.set_margins(MARGIN, MARGIN, MARGIN)
@@ -95,6 +110,11 @@ class Page(FPDF):
             self._wrapped[key] = _wrap(self.printable(text), width, wide)
         return self._wrapped[key]
 
+    def measure_line(self, line: str, size: float, bold: bool = False) -> float:
+        """The width (mm) of one line at `size` points (combining accents take no room)."""
+        widths = fonts.widths("B" if bold else "")
+        return sum(widths.get(ord(char), 0) for char in self.printable(line)) * size * PT / 1000
+
     def measure(self, width: float, text: str, size: float, bold: bool = False) -> float:
         """The height (mm) of `text` wrapped in `width` at `size` points."""
         return len(self.lines(width, text, size, bold)) * line_height(size)
@@ -112,7 +132,14 @@ class Page(FPDF):
                 # A raised accent sits above its letter's baseline, and text extractors (poppler,
                 # pdfium) would read it as a line of its own: the line's text is given as ActualText.
                 self._out(f"/Span <</ActualText <FEFF{line.encode('utf-16-be').hex().upper()}>>> BDC")
-            self.cell(width, height, line, align=align)
+            if shaped and align in ("R", "C"):
+                # fpdf2 misplaces the combining accents of a shaped line it aligns itself (they drift
+                # right, out of the cell): the line is placed here and drawn left-aligned.
+                wide = self.measure_line(line, size, bold)
+                self.set_x(x + (width - wide) / (2 if align == "C" else 1))
+                self.cell(wide, height, line, align="L")
+            else:
+                self.cell(width, height, line, align=align)
             if shaped:
                 self._out("EMC")
             y += height
@@ -142,6 +169,45 @@ class Page(FPDF):
             self.set_text_shaping(wanted)
         return wanted
 
+    def both(self, say: Callable[[], str]) -> list[str]:
+        """`say()` in English, then in the paper's second language unless it reads the same (NFC)."""
+        with use_locale(ENGLISH):
+            english = say()
+        if self.second_language is None:
+            return [english]
+        with use_locale(self.second_language):
+            other = unicodedata.normalize("NFC", say())
+        return [english] if other == english else [english, other]
+
+    def measure_words(self, width: float, say: Callable[[], str], size: float, bold: bool = False) -> float:
+        """The height (mm) of `say()` in the paper's languages (see `words`)."""
+        texts = self.both(say)
+        height = self.measure(width, texts[0], size, bold)
+        return height + sum(self.measure(width, text, second_size(size), bold) for text in texts[1:])
+
+    def words(
+        self,
+        x: float,
+        y: float,
+        width: float,
+        say: Callable[[], str],
+        size: float,
+        bold: bool = False,
+        align: str = "L",
+    ) -> float:
+        """Draw `say()` in English and, under it a little smaller, in the second language; the y below."""
+        texts = self.both(say)
+        y = self.box(x, y, width, texts[0], size, bold=bold, align=align)
+        if len(texts) == 1:
+            return y
+        colour = self.text_color
+        if colour == BLACK:  # on white the translation is a dark grey, on a coloured band as it is
+            self.set_text_color(*SECOND_RGB)
+        for text in texts[1:]:
+            y = self.box(x, y, width, text, second_size(size), bold=bold, align=align)
+        self.text_color = colour
+        return y
+
     def room(self, height: float) -> None:
         """Start a new page unless `height` mm fit below the cursor."""
         if self.get_y() + height > BOTTOM:
@@ -163,13 +229,15 @@ class Page(FPDF):
         self.layout.regions.append(Region(kind, self.page, x, y, w, h))
 
     def page_lines(self, left: str) -> None:
-        """At the foot of every page: `left`, and 'Page i of n' on the right."""
+        """At the foot of every page: `left`, and 'Page i of n' on the right (and in the second language)."""
         pages = self.page
         for page in range(1, pages + 1):
             self.page = page
             y = PAGE_H - FOOT - line_height(7.5)
             self.box(MARGIN, y, CONTENT_W / 2, left, 7.5)
-            self.box(MARGIN + CONTENT_W / 2, y, CONTENT_W / 2, f"Page {page} of {pages}", 7.5, align="R")
+            count = {"page": page, "pages": pages}
+            numbered = " / ".join(self.both(lambda count=count: _("Page %(page)s of %(pages)s") % count))  # type: ignore[misc]
+            self.box(MARGIN + CONTENT_W / 2, y, CONTENT_W / 2, numbered, 7.5, align="R")
         self.page = pages
 
 

@@ -10,12 +10,36 @@ from app.documents import fonts
 from app.documents.chart import Box
 from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
 from app.dynamics.facts import EstimateFacts
-from app.dynamics.wording import SECTION_LEAD, SECTION_TITLE
+from app.i18n.active import gettext as _
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
 from app.wording import case_name
 
-HEADINGS = ("Occupants", "Centre of gravity height", "Rollover threshold", "Tilt angle", "Critical speed")
+
+def headings() -> tuple[str, ...]:
+    """The estimates table's headings."""
+    return (
+        _("Occupants"),
+        _("Centre of gravity height"),
+        _("Rollover threshold"),
+        _("Tilt angle"),
+        _("Critical speed"),
+    )
+
+
+def section_title() -> str:
+    """The section's title (the pages' words, app/dynamics/wording.py)."""
+    return _("Beyond the static test (estimates, not part of the verdict)")
+
+
+def section_lead() -> str:
+    """What the section's figures rest on (the pages' words, app/dynamics/wording.py)."""
+    return _(
+        "These figures rest on the inputs listed beside them, some of them assumed. They never change the "
+        "verdict above, which is the study's static rule."
+    )
+
+
 WIDTHS = (46.0, 34.0, 30.0, 24.0, 46.0)
 ALIGN = ("L", "R", "R", "R", "R")
 SIZE = 8.0
@@ -32,45 +56,56 @@ def _name(label: str) -> str:
 def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
     """The whole section on one page (a new one if it does not fit below the chart)."""
     row_h = line_height(SIZE) + 0.8
+    says = [lambda i=i: headings()[i] for i in range(len(WIDTHS))]
     heading_h = max(
-        pdf.measure(w - 2 * PADDING, h, SIZE, bold=True) for w, h in zip(WIDTHS, HEADINGS, strict=True)
+        pdf.measure_words(w - 2 * PADDING, say, SIZE, bold=True) for w, say in zip(WIDTHS, says, strict=True)
     )
-    lead = SECTION_LEAD + (f" {estimates.missing}" if estimates.missing else "")
+    # The missing inputs are worded by the pages' words (English until those are translated).
+    missing = f" {estimates.missing}" if estimates.missing else ""
+
+    def lead() -> str:
+        return section_lead() + missing
+
     points = estimates.map_points
     map_h = MAP_ABOVE + MAP_H + MAP_BELOW if points else 0.0
-    inputs = "Inputs used: " + "; ".join(f"{label}: {value}" for label, value in estimates.inputs) + "."
+    listed = "; ".join(f"{label}: {value}" for label, value in estimates.inputs)
+
+    def inputs() -> str:
+        return _("Inputs used: %(inputs)s.") % {"inputs": listed}
+
     inputs_w = CONTENT_W - (MAP_LEFT + MAP_W + 6 if points else 0)
     height = (
-        line_height(11)
-        + pdf.measure(CONTENT_W, lead, 8)
+        pdf.measure_words(CONTENT_W, section_title, 11, bold=True)
+        + pdf.measure_words(CONTENT_W, lead, 8)
         + heading_h
         + 1.2
         + row_h * len(estimates.cases)
         + 3
-        + max(map_h, pdf.measure(inputs_w, inputs, 7.5))
+        + max(map_h, pdf.measure_words(inputs_w, inputs, 7.5))
     )
     pdf.room(height + 3)
-    y = pdf.box(MARGIN, pdf.get_y() + 3, CONTENT_W, SECTION_TITLE, 11, bold=True)
-    y = pdf.box(MARGIN, y, CONTENT_W, lead, 8)
+    y = pdf.words(MARGIN, pdf.get_y() + 3, CONTENT_W, section_title, 11, bold=True)
+    y = pdf.words(MARGIN, y, CONTENT_W, lead, 8)
     y = _table(pdf, estimates, y, heading_h, row_h) + 3
     if points:
         geometry = map_geometry(points, estimates.min_rollover_g)
         area = draw_map(pdf, Box(MARGIN + MAP_LEFT, y + MAP_ABOVE, MAP_W, MAP_H), geometry)
         pdf.region("map", *area)
         beside = area[0] + area[2] + 4
-        pdf.box(beside, y, PAGE_W - MARGIN - beside, inputs, 7.5)
+        pdf.words(beside, y, PAGE_W - MARGIN - beside, inputs, 7.5)
         pdf.set_xy(MARGIN, area[1] + area[3] + 3)
     else:
-        pdf.set_xy(MARGIN, pdf.box(MARGIN, y, CONTENT_W, inputs, 7.5) + 3)
+        pdf.set_xy(MARGIN, pdf.words(MARGIN, y, CONTENT_W, inputs, 7.5) + 3)
 
 
 def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, row_h: float) -> float:
     x = MARGIN
     pdf.set_fill_color(225, 225, 225)
     pdf.set_draw_color(0, 0, 0)
-    for width, align, heading in zip(WIDTHS, ALIGN, HEADINGS, strict=True):
+    for i, (width, align) in enumerate(zip(WIDTHS, ALIGN, strict=True)):
         pdf.rect(x, top, width, heading_h + 1.2, style="DF")
-        pdf.box(x + PADDING, top + 0.6, width - 2 * PADDING, heading, SIZE, bold=True, align=align)
+        say = lambda i=i: headings()[i]  # noqa: E731
+        pdf.words(x + PADDING, top + 0.6, width - 2 * PADDING, say, SIZE, bold=True, align=align)
         x += width
     y = top + heading_h + 1.2
     pdf.style(SIZE)

@@ -10,7 +10,9 @@ from app.accounts.deps import CurrentLogin
 from app.certificates.actors import issued_by, recorded_by
 from app.certificates.facts import calibration_words
 from app.certificates.in_force import why_not_issuable
+from app.certificates.languages import paper_language_choices
 from app.certificates.records import certificates_of_inspection
+from app.config import get_settings
 from app.dynamics.presentation import dynamics_context
 from app.ids import InspectionId
 from app.inspections.models import Inspection
@@ -50,6 +52,7 @@ def inspection_page(
         raw=raw_readings(inspection),
         certificates=certificates,
         not_issuable=why_not_issuable(session, inspection),
+        paper_languages=paper_language_choices(get_settings()),
         issuers={
             certificate.id: issued_by(
                 session,
