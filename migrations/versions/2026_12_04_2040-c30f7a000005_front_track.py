@@ -6,7 +6,7 @@ its outer front and rear contact points, and the front track places that line (r
 An added nullable column leaves every stored byte and the table's append-only triggers as they are.
 
 Revision ID: c30f7a000005
-Revises: c28a0e000003
+Revises: c29e1a000004
 Create Date: 2026-12-04 20:40:00
 """
 
@@ -16,7 +16,7 @@ import sqlalchemy as sa
 from alembic import op
 
 revision: str = "c30f7a000005"
-down_revision: str | None = "c28a0e000003"
+down_revision: str | None = "c29e1a000004"
 branch_labels: str | Sequence[str] | None = None
 depends_on: str | Sequence[str] | None = None
 
