@@ -11,6 +11,13 @@ trikecert's POST /api/v1/inspections, without and with an Idempotency-Key. Round
 sequence, so a change in the machine's load falls on every target alike. Each row gives the
 server's CPU (and PostgreSQL's) per answered request and the machine's load average.
 
+`--public` loads the public doors instead of the POSTs, in the same rounds beside the same yardsticks
+(the bare route and /healthz): one certificate is issued, then its HTML `/verify/{number}`, the JSON
+verification (`/api/v1/verify/{number}`), the published key list and the trust bundle's conditional GET
+(`If-None-Match` with its ETag: 304). The public rate limit stays on, counted, but too high to refuse:
+
+    .venv/bin/python bench/load.py --backends sqlite --connections 16 --public
+
 Two versions of trikecert in one run: `--also NAME=CHECKOUT` serves another checkout too (its own
 `CHECKOUT/.venv`, same workers, same database, migrated and seeded by this one, so both must be at
 the same migration), and loads its POSTs, without and with a key, right after this checkout's in
@@ -97,6 +104,37 @@ print(key)
     return out.stdout.strip().splitlines()[-1]
 
 
+# A load: its row's name, the server, the URL, a wrk script, wrk's environment, extra request headers.
+Target = tuple[str, str, str, str | None, dict[str, str], tuple[str, ...]]
+
+
+def public_paths(base: str, key: str) -> dict[str, tuple[str, str | None]]:
+    """Issue one certificate through the API; the public doors to load: name -> (path, If-None-Match)."""
+
+    def call(method: str, path: str, body: bytes | None = None) -> urllib.request.addinfourl:
+        headers = {"Authorization": f"Bearer {key}", "Content-Type": "application/json"}
+        request = urllib.request.Request(base + path, data=body, method=method, headers=headers)
+        return urllib.request.urlopen(request, timeout=30)
+
+    import json
+
+    body = json.dumps(
+        {
+            "registration_number": "BEN 0000",
+            "readings": {"front_kg": 200, "left_rear_kg": 80, "right_rear_kg": 80},
+        }
+    ).encode()
+    inspection = json.load(call("POST", "/api/v1/inspections", body))["id"]
+    number = json.load(call("POST", f"/api/v1/inspections/{inspection}/certificate"))["number"]
+    etag = call("GET", "/.well-known/trikecert-trust").headers["ETag"]
+    return {
+        "GET /verify/{number} (HTML)": (f"/verify/{number}", None),
+        "GET /api/v1/verify/{number}": (f"/api/v1/verify/{number}", None),
+        "GET /.well-known/trikecert-keys.json": ("/.well-known/trikecert-keys.json", None),
+        "GET /.well-known/trikecert-trust, If-None-Match (304)": ("/.well-known/trikecert-trust", etag),
+    }
+
+
 def wait_ready(port: int) -> None:
     """Poll /readyz until the server answers 200."""
     wait_answering(port, "/readyz")
@@ -113,9 +151,18 @@ def parse_wrk(output: str) -> tuple[float, str, str, int]:
     return rate, p50, p99, bad
 
 
-def wrk(url: str, connections: int, duration: int, env: dict[str, str], script: str | None = None) -> str:
+def wrk(
+    url: str,
+    connections: int,
+    duration: int,
+    env: dict[str, str],
+    script: str | None = None,
+    headers: tuple[str, ...] = (),
+) -> str:
     """Run wrk (2 threads) and return its output."""
     command = ["wrk", "-t2", f"-c{connections}", f"-d{duration}s", "--latency", url]
+    for header in headers:
+        command[1:1] = ["-H", header]
     if script:
         command[1:1] = ["-s", script]
     return subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout
@@ -152,11 +199,17 @@ def cpu_seconds(pids: list[int]) -> float:
 
 
 def measured(
-    url: str, connections: int, args: argparse.Namespace, env: dict[str, str], server: int, script: str | None
+    url: str,
+    connections: int,
+    args: argparse.Namespace,
+    env: dict[str, str],
+    server: int,
+    script: str | None,
+    headers: tuple[str, ...] = (),
 ) -> tuple[tuple[float, str, str, int], float, float]:
     """wrk's figures, and the server's and PostgreSQL's CPU milliseconds per answered request."""
     app_before, db_before = cpu_seconds(_descendants(server)), cpu_seconds(_postgres_pids())
-    result = parse_wrk(wrk(url, connections, args.duration, env, script=script))
+    result = parse_wrk(wrk(url, connections, args.duration, env, script=script, headers=headers))
     requests = max(1.0, result[0] * args.duration)
     app_ms = 1000 * (cpu_seconds(_descendants(server)) - app_before) / requests
     db_ms = 1000 * (cpu_seconds(_postgres_pids()) - db_before) / requests
@@ -203,6 +256,8 @@ def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
         TRIKECERT_DATABASE_URL=fresh_database(backend, scratch),
         TRIKECERT_ENVIRONMENT="test",
         TRIKECERT_STATION_RATE_LIMIT="1000000000",
+        TRIKECERT_PUBLIC_RATE_LIMIT="1000000000",
+        TRIKECERT_SIGNING_KEY_FILE=str(scratch / "signing-key.pem"),
     )
     key = seed(env)
     sys.path.insert(0, str(ROOT / "bench"))
@@ -235,21 +290,40 @@ def run_backend(backend: str, args: argparse.Namespace) -> list[str]:
         url = {name: f"http://127.0.0.1:{port}" for name, port in ports.items()}
         keyed_env = dict(wrk_env, TRIKECERT_BENCH_IDEMPOTENCY="1")
         label = {"trikecert": args.label, **{name: name for name in also}}
-        targets = [
-            ("bare Starlette GET /healthz", "bare", f"{url['bare']}/healthz", None, wrk_env),
-            (f"{args.label} GET /healthz", "trikecert", f"{url['trikecert']}/healthz", None, wrk_env),
-            ("peer POST (one row)", "peer", url["peer"], script, wrk_env),
-            *[(f"{label[name]} POST", name, url[name], script, wrk_env) for name in ("trikecert", *also)],
-            *[
-                (f"{label[name]} POST + Idempotency-Key", name, url[name], script, keyed_env)
-                for name in ("trikecert", *also)
-            ],
+        targets: list[Target] = [
+            ("bare Starlette GET /healthz", "bare", f"{url['bare']}/healthz", None, wrk_env, ()),
+            (f"{args.label} GET /healthz", "trikecert", f"{url['trikecert']}/healthz", None, wrk_env, ()),
         ]
+        if args.public:
+            doors = public_paths(url["trikecert"], key)
+            targets += [
+                (
+                    f"{args.label} {name}",
+                    "trikecert",
+                    url["trikecert"] + path,
+                    None,
+                    wrk_env,
+                    () if etag is None else (f"If-None-Match: {etag}",),
+                )
+                for name, (path, etag) in doors.items()
+            ]
+        else:
+            targets += [
+                ("peer POST (one row)", "peer", url["peer"], script, wrk_env, ()),
+                *[
+                    (f"{label[name]} POST", name, url[name], script, wrk_env, ())
+                    for name in ("trikecert", *also)
+                ],
+                *[
+                    (f"{label[name]} POST + Idempotency-Key", name, url[name], script, keyed_env, ())
+                    for name in ("trikecert", *also)
+                ],
+            ]
         for connections in args.connections:
             for round_number in range(1, args.rounds + 1):
-                for name, server, target, lua, target_env in targets:
+                for name, server, target, lua, target_env, headers in targets:
                     result, app_ms, db_ms = measured(
-                        target, connections, args, target_env, servers[server].pid, lua
+                        target, connections, args, target_env, servers[server].pid, lua, headers
                     )
                     load = os.getloadavg()[0]  # other work on the machine skews every figure: show it
                     db = f"{db_ms:.2f}" if backend == "postgresql" else "(in app)"
@@ -278,6 +352,12 @@ def main() -> None:
     parser.add_argument("--connections", default="32")
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--label", default="trikecert", help="the name of this checkout's rows")
+    parser.add_argument(
+        "--public",
+        action="store_true",
+        help="load the public doors (/verify, the JSON verification, the key list, the bundle's 304) "
+        "instead of the POSTs",
+    )
     parser.add_argument(
         "--also",
         action="append",

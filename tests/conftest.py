@@ -26,6 +26,7 @@ from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session
 
 from app import config, db
+from app.certificates.answer_cache import forget_answers
 from app.certificates.guard import immutability_lifted
 from app.certificates.trust_bundle import forget_bundles
 from app.db import Base, make_engine
@@ -248,6 +249,7 @@ def engine(database_url: str, owner_engine: Engine) -> Iterator[Engine]:
     # can say the same (ids restart, counts repeat), so the next test must not be served this one's.
     forget_bundles()
     forget_published_keys()
+    forget_answers()
 
 
 @pytest.fixture

@@ -21,7 +21,7 @@ from app.certificates.records import certificate_facts, certificate_status, get_
 from app.certificates.schemas import CertificateOut, IssuerOut, RevocationOut, VerificationOut
 from app.certificates.service import issue_certificate
 from app.certificates.verification_examples import VERIFICATION_EXAMPLES
-from app.certificates.verify_json import payload_param, verification
+from app.certificates.verify_json import api_verification, payload_param
 from app.certificates.wording import in_force, not_on_record, public_status
 from app.config import get_settings
 from app.errors import NotFound
@@ -215,7 +215,7 @@ def verify_certificate(
             "percent-encoded; with it the answer says whether it is genuine for this record.",
         ),
     ] = None,
-) -> VerificationOut:
+) -> Response:
     """Only what the paper prints, and the status now: certified, refused, revoked, superseded or expired.
 
     Only `status: certified` (`in_force: true`) certifies the vehicle; a refusal never does. The same
@@ -225,4 +225,4 @@ def verify_certificate(
     `exists`) for a number that finds no document: such a paper is not valid. docs/verification.md
     says how to check a QR code offline.
     """
-    return verification(session, get_certificate(session, number), payload_param(request) if p else None)
+    return api_verification(session, number, payload_param(request) if p else None)

@@ -3,11 +3,14 @@ and for /api/v1/verify/{number}. No key, nothing about officers: only what the p
 
 from __future__ import annotations
 
+from datetime import datetime
+
 from sqlalchemy.orm import Session
 from starlette.requests import Request
-from starlette.responses import JSONResponse
+from starlette.responses import JSONResponse, Response
 
 from app.api.errors import ErrorOut, FieldProblemOut
+from app.certificates.answer_cache import kept_answer, verdict_until
 from app.certificates.models import Certificate
 from app.certificates.records import get_certificate
 from app.certificates.schemas import VerificationOut
@@ -59,15 +62,36 @@ def verification(session: Session, certificate: Certificate, payload: str | None
     return verification_of(certificate, checked)
 
 
-def verification_json(session: Session, number: str, payload: str | None) -> JSONResponse:
-    """The verification as a JSON answer (404 as JSON too); `Vary: Accept`: the address also serves HTML."""
+def verification_json(session: Session, number: str, payload: str | None) -> Response:
+    """The verification as a JSON answer (404 as JSON too); `Vary: Accept`: the address also serves HTML.
+    Without a scanned payload, the answer kept while the records say nothing changed (answer_cache)."""
+    if payload is not None:
+        return _verification_json(session, number, payload)[0]
+    return kept_answer(session, "verify-json", number, lambda: _verification_json(session, number, None))
+
+
+def _verification_json(
+    session: Session, number: str, payload: str | None
+) -> tuple[Response, datetime | None]:
     headers = {"Vary": "Accept", "Cache-Control": "no-store"}
     try:
         certificate = get_certificate(session, number)
     except ServiceError as error:
-        return error_json(error, headers)
+        return error_json(error, headers), None
     body = verification(session, certificate, payload).model_dump(mode="json", exclude_none=True)
-    return JSONResponse(body, headers=headers)
+    return JSONResponse(body, headers=headers), verdict_until(certificate)
+
+
+def api_verification(session: Session, number: str, payload: str | None) -> Response:
+    """/api/v1/verify/{number}'s answer (a number that finds nothing raises NotFound, answered as every
+    API error is); without a payload, kept while the records say nothing changed."""
+
+    def make() -> tuple[Response, datetime | None]:
+        certificate = get_certificate(session, number)
+        body = verification(session, certificate, payload).model_dump(mode="json", exclude_none=True)
+        return JSONResponse(body), verdict_until(certificate)
+
+    return make()[0] if payload is not None else kept_answer(session, "api-verify", number, make)
 
 
 def error_json(error: ServiceError, headers: dict[str, str] | None = None) -> JSONResponse:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from datetime import datetime
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query
@@ -9,6 +10,7 @@ from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app import wording
+from app.certificates.answer_cache import kept_answer, verdict_until
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_facts, certificate_status, get_certificate, verify_base
 from app.certificates.verification import PayloadCheck, check_payload
@@ -118,12 +120,21 @@ def verify_page(
     p = payload_param(request) if p is not None else None
     if wants_json(request):
         return verification_json(session, number, p)
+    if p:
+        return _verify_page(request, session, number, p)[0]
+    return kept_answer(session, "verify-html", number, lambda: _verify_page(request, session, number, None))
+
+
+def _verify_page(
+    request: Request, session: SessionDep, number: str, p: str | None
+) -> tuple[Response, datetime | None]:
     try:
         certificate = get_certificate(session, number)
     except NotFound as missing:
-        return not_found_page(request, number, missing)
+        return not_found_page(request, number, missing), None
     payload = check_payload(p, published_keys(session, get_settings()), certificate) if p else None
-    return render(request, "certificates/verify.html", document_context(certificate, payload))
+    page = render(request, "certificates/verify.html", document_context(certificate, payload))
+    return page, verdict_until(certificate)
 
 
 def not_found_page(request: Request, number: str, missing: NotFound) -> Response:

@@ -187,6 +187,8 @@ def paper_shown(page: Page, paper: dict[str, Any], list_made_at: int) -> None:
     expect(page.locator("#registration")).to_have_text(paper["registration_number"])
     expect(page.locator("#number")).to_contain_text(paper["number"])
     expect(page.locator("#checked")).to_have_text(checked_against(list_made_at))
+    said = page.locator("main").inner_text()  # what is shown: the verdict names the list, once
+    assert said.count("Checked against the list") == 1, said
 
 
 def test_offline_by_typed_text_every_verdict(phone: BrowserContext, papers: Papers, axe_script: Path) -> None:

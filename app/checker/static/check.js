@@ -102,8 +102,13 @@ async function refresh() {
   }
 }
 
+// "Checked against the list of ..." is said once: by the verdict on screen when it names the list it
+// was decided by, else by the page's line. A newer list taken after the verdict takes the line back.
 function showList() {
   const line = $("list-status");
+  const named = $("result").querySelector('[data-slot="checked"]');
+  if (named && !(state.held && named.dataset.seq === String(state.held.body.seq))) named.remove();
+  line.hidden = Boolean($("result").querySelector('[data-slot="checked"]'));
   line.textContent = state.held ? checkedAgainst(state.held.body.made_at) : words.codes.no_bundle.sentence;
   line.dataset.held = state.held ? String(state.held.body.seq) : "";
 }
@@ -135,9 +140,12 @@ function show(result) {
     slot("sentence").classList.add("status__occupancy");
     slot("occupancy").remove();
   }
-  if (result.bundle) slot("checked").textContent = checkedAgainst(result.bundle.made_at);
-  else slot("checked").remove();
+  if (result.bundle) {
+    slot("checked").textContent = checkedAgainst(result.bundle.made_at);
+    slot("checked").dataset.seq = String(result.bundle.seq);
+  } else slot("checked").remove();
   $("result").replaceChildren(box);
+  $("list-status").hidden = Boolean(result.bundle);
   box.scrollIntoView({ block: "nearest" });
 }
 
