@@ -63,7 +63,7 @@ WHEEL_LABELS: dict[str, tuple[str, str, str]] = {
         N_("Overall weight (kg)"),
         N_(
             "The whole empty vehicle on the weighbridge. Leave blank if it was not weighed; then the wheels’ "
-            "sum is used. The wheels must add up to within 1 % of it."
+            "sum is used. The wheels must add up to within %(tolerance)s of it."
         ),
         N_("Overall (kg)"),
     ),
@@ -122,7 +122,8 @@ class InspectionForm:
 def wheel_labels(wheel: str) -> tuple[str, str, str]:
     """A wheel's legend, hint and short label on the form, in the active language."""
     legend, hint, short = WHEEL_LABELS[wheel]
-    return _(legend), _(hint), _(short)
+    # The tolerance is a figure, never translated by hand; a hint without it is unchanged by the %.
+    return _(legend), _(hint) % {"tolerance": "1 %"}, _(short)
 
 
 # What a box holds, as a refusal names it (the core's words for the wheels, marked here).
