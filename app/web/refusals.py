@@ -118,5 +118,7 @@ def translated_refusal(message: str) -> str:
         for name, translate in _WORD_GROUPS.items():
             if name in words:
                 words[name] = translate(words[name])
-        return gettext(message_id) % words
+        translated = gettext(message_id) % words
+        # A sentence may open with the thing it names ("Ìwúwo ... gbọ́dọ̀ ..."): a capital, as readable() gives.
+        return translated[:1].upper() + translated[1:]
     return message
