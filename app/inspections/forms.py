@@ -9,8 +9,9 @@ from decimal import Decimal
 from starlette.datastructures import FormData
 
 from app.dynamics.forms import LIFT_FIELDS, read_lift
-from app.i18n.active import N_
+from app.i18n.active import N_, current_locale
 from app.i18n.active import gettext as _
+from app.i18n.locales import ENGLISH
 from app.inspections.service import InspectionRequest
 from app.stability import MeasuredCase, Seat, WheelReadings, layout_named
 from app.stability.layout import OVERALL
@@ -123,7 +124,9 @@ def wheel_labels(wheel: str) -> tuple[str, str, str]:
     """A wheel's legend, hint and short label on the form, in the active language."""
     legend, hint, short = WHEEL_LABELS[wheel]
     # The tolerance is a figure, never translated by hand; a hint without it is unchanged by the %.
-    return _(legend), _(hint) % {"tolerance": "1 %"}, _(short)
+    # Held on one line with its figure (a longer sentence can wrap there), the English as it always was.
+    tolerance = "1 %" if current_locale() == ENGLISH else "1\u00a0%"
+    return _(legend), _(hint) % {"tolerance": tolerance}, _(short)
 
 
 # What a box holds, as a refusal names it (the core's words for the wheels, marked here).
