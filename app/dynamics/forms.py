@@ -6,6 +6,7 @@ from decimal import Decimal
 from typing import Protocol
 
 from app.dynamics.estimates import CgLift
+from app.i18n.active import gettext as _
 from app.web.forms import FormErrors, parse_decimal
 
 LIFT_READINGS = 3
@@ -32,24 +33,31 @@ def read_lift(form: _Form) -> CgLift | None:
     if not any(form.values.get(name) for name in LIFT_FIELDS):
         return None
     height = _parsed(
-        form, LIFT_HEIGHT, "Enter how far the front wheel was raised as a number of metres, like 0.40"
+        form,
+        LIFT_HEIGHT,
+        _("Enter how far the front wheel was raised as a number of metres, like %(example)s")
+        % {"example": "0.40"},
     )
     readings: list[Decimal] = []
     for index in range(1, LIFT_READINGS + 1):
         box = lift_reading_id(index)
         value = _parsed(
-            form, box, "Enter the raised front wheel reaction as a number of kilograms, like 94.8"
+            form,
+            box,
+            _("Enter the raised front wheel reaction as a number of kilograms, like %(example)s")
+            % {"example": "94.8"},
         )
         if value is not None:
             form.input_for[f"cg_lift.front_kg[{len(readings)}]"] = box
             readings.append(value)
     if height is None and LIFT_HEIGHT not in form.errors.messages:
         form.errors.add(
-            LIFT_HEIGHT, "Enter how far the front wheel was raised, in metres, or clear the raised readings"
+            LIFT_HEIGHT,
+            _("Enter how far the front wheel was raised, in metres, or clear the raised readings"),
         )
     if not readings and lift_reading_id(1) not in form.errors.messages:
         form.errors.add(
-            lift_reading_id(1), "Enter the front wheel reaction with the wheel raised, in kilograms"
+            lift_reading_id(1), _("Enter the front wheel reaction with the wheel raised, in kilograms")
         )
     if height is None or not readings:
         return None

@@ -17,6 +17,8 @@ from app.dynamics.models import DYNAMICS_FIELDS
 from app.dynamics.protocols import FiguredVehicle
 from app.dynamics.service import DynamicsFigures, record_figures, revision_figures, seat_heights
 from app.errors import NotFound, ServiceError
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.stability.layout import layout_named
 from app.web.deps import FormDep, SessionDep
 from app.web.formatting import NOT_RECORDED, or_not_recorded
@@ -26,25 +28,39 @@ from app.web.templating import render
 router = APIRouter(prefix="/vehicles", include_in_schema=False)
 
 # Each figure: its label with the unit, its hint, and the example in the message when it is not a number.
+# Marked with N_ and translated where shown (labels()), never frozen in one language at import.
 LABELS = {
-    "track_m": ("Rear track (m)", "Between the centres of the two rear tyres, like 1.150"),
-    "front_track_m": ("Front track (m)", "Between the centres of the two front tyres, like 1.200"),
-    "wheel_radius_m": ("Loaded rear wheel radius (m)", "From the rear axle centre to the ground, like 0.190"),
+    "track_m": (N_("Rear track (m)"), N_("Between the centres of the two rear tyres, like 1.150")),
+    "front_track_m": (N_("Front track (m)"), N_("Between the centres of the two front tyres, like 1.200")),
+    "wheel_radius_m": (
+        N_("Loaded rear wheel radius (m)"),
+        N_("From the rear axle centre to the ground, like 0.190"),
+    ),
     "front_cornering_stiffness_n_per_rad": (
-        "Front tyre cornering stiffness (N/rad)",
-        "From the tyre maker or a test, like 8000; an estimate",
+        N_("Front tyre cornering stiffness (N/rad)"),
+        N_("From the tyre maker or a test, like 8000; an estimate"),
     ),
     "rear_cornering_stiffness_n_per_rad": (
-        "Each rear tyre's cornering stiffness (N/rad)",
-        "From the tyre maker or a test, like 8000; an estimate",
+        N_("Each rear tyre's cornering stiffness (N/rad)"),
+        N_("From the tyre maker or a test, like 8000; an estimate"),
     ),
-    "drag_area_m2": ("Drag area, Cd × A (m²)", "Drag coefficient times frontal area, like 1.6; an estimate"),
+    "drag_area_m2": (
+        N_("Drag area, Cd × A (m²)"),
+        N_("Drag coefficient times frontal area, like 1.6; an estimate"),
+    ),
     "centre_of_pressure_height_m": (
-        "Centre of pressure height (m)",
-        "Where the wind's force acts, above the ground, like 0.900; an estimate",
+        N_("Centre of pressure height (m)"),
+        N_("Where the wind's force acts, above the ground, like 0.900; an estimate"),
     ),
 }
-SEAT_HINT = "The seated person's centre of gravity above the ground, some 0.2 m above the seat top, like 0.75"
+SEAT_HINT = N_(
+    "The seated person's centre of gravity above the ground, some 0.2 m above the seat top, like 0.75"
+)
+
+
+def labels() -> dict[str, tuple[str, str]]:
+    """Each figure's label and hint in the active language."""
+    return {name: (_(label), _(hint)) for name, (label, hint) in LABELS.items()}
 
 
 def page_fields(vehicle: FiguredVehicle) -> list[str]:
@@ -57,6 +73,24 @@ def page_fields(vehicle: FiguredVehicle) -> list[str]:
 def seat_input(index: int) -> str:
     """The input of one seat's height."""
     return f"seat_z_m_{index}"
+
+
+# A figure that is not a number: one sentence per figure, so each language words it whole.
+NOT_A_NUMBER = {
+    "track_m": N_("Enter the rear track (m) as a number, or leave it blank"),
+    "wheel_radius_m": N_("Enter the loaded rear wheel radius (m) as a number, or leave it blank"),
+    "front_cornering_stiffness_n_per_rad": N_(
+        "Enter the front tyre cornering stiffness (N/rad) as a number, or leave it blank"
+    ),
+    "rear_cornering_stiffness_n_per_rad": N_(
+        "Enter the each rear tyre's cornering stiffness (N/rad) as a number, or leave it blank"
+    ),
+    "drag_area_m2": N_("Enter the drag area, Cd × A (m²) as a number, or leave it blank"),
+    "centre_of_pressure_height_m": N_(
+        "Enter the centre of pressure height (m) as a number, or leave it blank"
+    ),
+}
+NOT_A_SEAT_HEIGHT = N_("Enter the seated height (m) as a number, or leave it blank")
 
 
 @dataclass
@@ -77,8 +111,7 @@ def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
     for name in names:
         parsed[name] = parse_decimal(values[name]) if values[name] else None
         if values[name] and parsed[name] is None and name not in errors.messages:
-            label = LABELS[name][0] if name in LABELS else "seated height (m)"
-            errors.add(name, f"Enter the {label[0].lower()}{label[1:]} as a number, or leave it blank")
+            errors.add(name, _(NOT_A_NUMBER.get(name, NOT_A_SEAT_HEIGHT)))
     result = FiguresForm(values=values, errors=errors)
     if not errors:
         result.figures = DynamicsFigures(
@@ -91,7 +124,9 @@ def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
 def _vehicle(session: SessionDep, registration_key: str) -> FiguredVehicle:
     vehicle = find_vehicle(session, registration_key)
     if vehicle is None:
-        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+        raise NotFound(
+            _("No vehicle %(plate)s is registered") % {"plate": display_registration(registration_key)}
+        )
     return vehicle
 
 
@@ -120,9 +155,9 @@ def _page(
             "vehicle": vehicle,
             "values": values,
             "errors": errors.messages,
-            "labels": LABELS,
+            "labels": labels(),
             "track_fields": [name for name in page_fields(vehicle) if name.endswith("track_m")],
-            "seat_hint": SEAT_HINT,
+            "seat_hint": _(SEAT_HINT),
         },
         status_code=status,
     )
@@ -147,7 +182,7 @@ def change_figures(
     if parsed.figures is not None:
         revisions = vehicle.dynamics_revisions
         if parsed.figures == revision_figures(revisions[-1] if revisions else None):
-            set_flash(session, login, "The figures for the estimates are unchanged.")
+            set_flash(session, login, _("The figures for the estimates are unchanged."))
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
         try:
             revision = record_figures(session, vehicle, parsed.figures)
@@ -156,7 +191,11 @@ def change_figures(
             input_for.update({f"seats[{i}].z_m": seat_input(i) for i in range(len(vehicle.seats))})
             parsed.errors.add_problems(error.problems, input_for, DYNAMICS_FIELDS[0])
         else:
-            set_flash(session, login, f"Figures for the estimates recorded (revision {revision.revision}).")
+            set_flash(
+                session,
+                login,
+                _("Figures for the estimates recorded (revision %(n)s).") % {"n": revision.revision},
+            )
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
     return _page(request, vehicle, parsed.values, parsed.errors, 422)
 
@@ -166,8 +205,8 @@ def figures_rows(vehicle: FiguredVehicle) -> dict[str, object]:
     revisions = vehicle.dynamics_revisions
     values = current_values(vehicle)
     fields = page_fields(vehicle)
-    rows = [(LABELS[name][0], or_not_recorded(values[name])) for name in fields]
+    rows = [(_(LABELS[name][0]), or_not_recorded(values[name])) for name in fields]
     heights = [str(or_not_recorded(values[seat_input(i)])) for i in range(len(vehicle.seats))]
     shown = NOT_RECORDED if all(h == NOT_RECORDED for h in heights) else ", ".join(heights)
-    rows.insert(fields.index("wheel_radius_m") + 1, ("Seated heights, driver first (m)", shown))
+    rows.insert(fields.index("wheel_radius_m") + 1, (_("Seated heights, driver first (m)"), shown))
     return {"rows": rows, "revision": revisions[-1].revision if revisions else None}

@@ -57,3 +57,8 @@ def pgettext(context: str, message: str) -> str:
 
 
 _ = gettext
+
+
+def N_(message: str) -> str:  # noqa: N802 (gettext's conventional name)
+    """Mark a message for extraction without translating it (translate it with gettext() when used)."""
+    return message

@@ -9,6 +9,9 @@ from decimal import Decimal
 from starlette.datastructures import FormData
 
 from app.dynamics.forms import LIFT_FIELDS, read_lift
+from app.i18n.active import N_, current_locale
+from app.i18n.active import gettext as _
+from app.i18n.locales import ENGLISH
 from app.inspections.service import InspectionRequest
 from app.stability import MeasuredCase, Seat, WheelReadings, layout_named
 from app.stability.layout import OVERALL
@@ -28,36 +31,42 @@ def wheels_of(vehicle: Vehicle) -> tuple[str, ...]:
 # A wheel's legend and hint on the form, and its short label for a measured case.
 WHEEL_LABELS: dict[str, tuple[str, str, str]] = {
     "front_kg": (
-        "Front wheel reaction (kg)",
-        "The weighbridge reading under the front wheel alone.",
-        "Front wheel (kg)",
+        N_("Front wheel reaction (kg)"),
+        N_("The weighbridge reading under the front wheel alone."),
+        N_("Front wheel (kg)"),
     ),
     "left_front_kg": (
-        "Left front wheel reaction (kg)",
-        "The reading under the left front wheel alone.",
-        "Left front (kg)",
+        N_("Left front wheel reaction (kg)"),
+        N_("The reading under the left front wheel alone."),
+        N_("Left front (kg)"),
     ),
     "right_front_kg": (
-        "Right front wheel reaction (kg)",
-        "The reading under the right front wheel alone.",
-        "Right front (kg)",
+        N_("Right front wheel reaction (kg)"),
+        N_("The reading under the right front wheel alone."),
+        N_("Right front (kg)"),
     ),
     "left_rear_kg": (
-        "Left rear wheel reaction (kg)",
-        "The reading under the left rear wheel alone.",
-        "Left rear (kg)",
+        N_("Left rear wheel reaction (kg)"),
+        N_("The reading under the left rear wheel alone."),
+        N_("Left rear (kg)"),
     ),
     "right_rear_kg": (
-        "Right rear wheel reaction (kg)",
-        "The reading under the right rear wheel alone.",
-        "Right rear (kg)",
+        N_("Right rear wheel reaction (kg)"),
+        N_("The reading under the right rear wheel alone."),
+        N_("Right rear (kg)"),
     ),
-    "rear_kg": ("Rear wheel reaction (kg)", "The reading under the rear wheel alone.", "Rear wheel (kg)"),
+    "rear_kg": (
+        N_("Rear wheel reaction (kg)"),
+        N_("The reading under the rear wheel alone."),
+        N_("Rear wheel (kg)"),
+    ),
     "overall_kg": (
-        "Overall weight (kg)",
-        "The whole empty vehicle on the weighbridge. Leave blank if it was not weighed; then the wheels’ "
-        "sum is used. The wheels must add up to within 1 % of it.",
-        "Overall (kg)",
+        N_("Overall weight (kg)"),
+        N_(
+            "The whole empty vehicle on the weighbridge. Leave blank if it was not weighed; then the wheels’ "
+            "sum is used. The wheels must add up to within %(tolerance)s of it."
+        ),
+        N_("Overall (kg)"),
     ),
 }
 
@@ -111,11 +120,26 @@ class InspectionForm:
     input_for: dict[str, str] = field(default_factory=dict)
 
 
+def wheel_labels(wheel: str) -> tuple[str, str, str]:
+    """A wheel's legend, hint and short label on the form, in the active language."""
+    legend, hint, short = WHEEL_LABELS[wheel]
+    # The tolerance is a figure, never translated by hand; a hint without it is unchanged by the %.
+    # Held on one line with its figure (a longer sentence can wrap there), the English as it always was.
+    tolerance = "1 %" if current_locale() == ENGLISH else "1\u00a0%"
+    return _(legend), _(hint) % {"tolerance": tolerance}, _(short)
+
+
+# What a box holds, as a refusal names it (the core's words for the wheels, marked here).
+_KILOGRAMS = N_("Enter the %(what)s as a number of kilograms, like %(example)s")
+_METRES = N_("Enter the %(what)s as a number of metres, like %(example)s")
+
+
 def _number(form: InspectionForm, input_id: str, what: str, unit: str, example: str) -> Decimal | None:
     raw = form.values[input_id]
     value = parse_decimal(raw) if raw else None
     if raw and value is None:
-        form.errors.add(input_id, f"Enter the {what} as a number of {unit}, like {example}")
+        message = _KILOGRAMS if unit == "kilograms" else _METRES
+        form.errors.add(input_id, _(message) % {"what": _(what), "example": example})
     return value
 
 
@@ -149,21 +173,23 @@ def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionFor
     readings = _readings(
         form, "readings", {w: [reading_id(w, i) for i in range(1, READINGS_PER_WHEEL + 1)] for w in wheels}
     )
-    wheelbase = _number(form, "wheelbase_m", "wheelbase", "metres", "2.000")
+    wheelbase = _number(form, "wheelbase_m", N_("wheelbase"), "metres", "2.000")
     if wheelbase is None:
-        form.errors.add("wheelbase_m", "Enter the wheelbase as a number of metres, like 2.000")
-    mass = _number(form, "occupant_mass_kg", "standard occupant mass", "kilograms", "72")
+        form.errors.add("wheelbase_m", _(_METRES) % {"what": _("wheelbase"), "example": "2.000"})
+    mass = _number(form, "occupant_mass_kg", N_("standard occupant mass"), "kilograms", "72")
     if mass is None:
         form.errors.add(
-            "occupant_mass_kg", "Enter the standard occupant mass as a number of kilograms, like 72"
+            "occupant_mass_kg", _(_KILOGRAMS) % {"what": _("standard occupant mass"), "example": "72"}
         )
     form.input_for.update({"wheelbase_m": "wheelbase_m", "occupants.mass_kg": "occupant_mass_kg"})
 
     seats: list[Seat] = []
     for i in range(seat_count):
-        position = _number(form, seat_id(i), "seat position", "metres", "1.630")
+        position = _number(form, seat_id(i), N_("seat position"), "metres", "1.630")
         if position is None and i == 0:
-            form.errors.add(seat_id(0), "Enter the driver's seat position as a number of metres, like 0.930")
+            form.errors.add(
+                seat_id(0), _(_METRES) % {"what": _("driver's seat position"), "example": "0.930"}
+            )
         if position is not None:
             form.input_for[f"occupants.seats[{len(seats)}]"] = seat_id(i)
             seats.append(Seat("driver" if i == 0 else "passenger", position))

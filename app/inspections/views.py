@@ -15,12 +15,13 @@ from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
+from app.i18n.active import gettext as _
 from app.ids import IdChoice, PageNumber, parse_id
 from app.inspections.forms import (
     READINGS_PER_WHEEL,
-    WHEEL_LABELS,
     initial_values,
     read_inspection_form,
+    wheel_labels,
     wheels_of,
 )
 from app.inspections.models import Inspection
@@ -43,7 +44,9 @@ router = APIRouter(include_in_schema=False)
 def _vehicle(session: Session, registration_key: str) -> Vehicle:
     vehicle = find_vehicle(session, registration_key)
     if vehicle is None:
-        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+        raise NotFound(
+            _("No vehicle %(plate)s is registered") % {"plate": display_registration(registration_key)}
+        )
     return vehicle
 
 
@@ -64,7 +67,7 @@ def _form_page(
             "errors": errors.messages,
             "form_token": token,
             "readings_per_wheel": READINGS_PER_WHEEL,
-            "wheels": [(w, *WHEEL_LABELS[w]) for w in wheels_of(vehicle)],
+            "wheels": [(w, *wheel_labels(w)) for w in wheels_of(vehicle)],
             "measured_open": any(
                 k.startswith("measured_") and (v or k in errors.messages) for k, v in values.items()
             ),
@@ -121,7 +124,7 @@ def create_inspection(
                 raise
             return RedirectResponse(done, status_code=303)
         else:
-            set_flash(session, login, "Inspection recorded.")
+            set_flash(session, login, _("Inspection recorded."))
             return RedirectResponse(f"/inspections/{inspection.id}", status_code=303)
     return _form_page(request, vehicle, parsed.values, token, parsed.errors, 422)
 
@@ -176,14 +179,14 @@ def inspections_page(
     }
     values["station"] = query_text(station, "station", errors, limit=40)
     if values["verdict"] not in VERDICTS:
-        errors.add("verdict", "Choose compliant, not compliant or all")
+        errors.add("verdict", _("Choose compliant, not compliant or all"))
         values["verdict"] = ""
     station_id = parse_id(station)
     if station.strip() and station_id is None:
-        errors.add("station", "Choose a station from the list")
+        errors.add("station", _("Choose a station from the list"))
     since_day, until_day = read_date(values["from"], "from", errors), read_date(values["to"], "to", errors)
     if since_day and until_day and until_day < since_day:
-        errors.add("to", "The 'to' date must be the same as or after the 'from' date")
+        errors.add("to", _("The 'to' date must be the same as or after the 'from' date"))
         until_day = None
     size = get_settings().page_size
     where = InspectionFilter(

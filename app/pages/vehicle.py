@@ -11,6 +11,7 @@ from app.accounts.deps import CurrentLogin
 from app.certificates.in_force import current_document
 from app.dynamics.views import figures_rows
 from app.errors import NotFound
+from app.i18n.active import gettext as _
 from app.inspections.service import InspectionFilter, get_inspection, list_inspections
 from app.inspections.views import result_context
 from app.vehicles.service import display_registration, find_vehicle
@@ -29,7 +30,9 @@ def vehicle_page(
     figures, then its inspection history."""
     vehicle = find_vehicle(session, registration_key)
     if vehicle is None:
-        raise NotFound(f"No vehicle {display_registration(registration_key)} is registered")
+        raise NotFound(
+            _("No vehicle %(plate)s is registered") % {"plate": display_registration(registration_key)}
+        )
     if registration_key != vehicle.registration_key:
         return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
     inspections, total = list_inspections(

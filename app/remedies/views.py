@@ -12,6 +12,8 @@ from starlette.datastructures import QueryParams
 from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics
 from app.dynamics.wording import figure_text
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.inspections.models import Inspection
 from app.remedies.service import stored_assessment
 from app.stability import StabilityError
@@ -19,9 +21,10 @@ from app.stability.dynamics import rollover_after_remedy
 from app.stability.remedies import Remedies, advice_of, complies, size_remedies
 from app.web.chart import ChartPoint, before_after_chart, short_label
 from app.web.forms import FormErrors, parse_decimal, query_text, readable
+from app.web.refusals import translated_refusal
 from app.wording import case_name, remedies_sentence, remedy_applied
 
-REMEDIES = {"ballast": "Fitting front ballast", "seat_shift": "Moving the rear bench forward"}
+REMEDIES = {"ballast": N_("Fitting front ballast"), "seat_shift": N_("Moving the rear bench forward")}
 FIELDS = ("target_occupants", "ballast_x_m", "remedy")
 INPUT_IDS = {"target_occupants": "target_occupants", "ballast_x_m": "ballast_x_m", "remedy": "remedy-ballast"}
 
@@ -45,7 +48,8 @@ def read_choice(query: QueryParams, seats: int, errors: FormErrors) -> tuple[Rem
             target = int(typed)
         else:
             errors.add(
-                "target_occupants", f"Enter the number of occupants as a whole number from 0 to {seats}"
+                "target_occupants",
+                _("Enter the number of occupants as a whole number from 0 to %(seats)s") % {"seats": seats},
             )
     ballast_x_m = get_settings().ballast_x_m
     if values["ballast_x_m"]:
@@ -53,14 +57,17 @@ def read_choice(query: QueryParams, seats: int, errors: FormErrors) -> tuple[Rem
         if parsed is None:
             errors.add(
                 "ballast_x_m",
-                "Enter the ballast position in metres behind the front wheel centre, like 0.30 "
-                "(negative: ahead of it)",
+                _(
+                    "Enter the ballast position in metres behind the front wheel centre, like %(example)s "
+                    "(negative: ahead of it)"
+                )
+                % {"example": "0.30"},
             )
         else:
             ballast_x_m = parsed
     remedy = values["remedy"] or "ballast"
     if remedy not in REMEDIES:
-        errors.add("remedy-ballast", "Choose fitting front ballast or moving the rear bench forward")
+        errors.add("remedy-ballast", _("Choose fitting front ballast or moving the rear bench forward"))
         remedy = "ballast"
     values["remedy"] = remedy
     return RemedyChoice(target, ballast_x_m, remedy), values
@@ -75,7 +82,7 @@ def _sized(inspection: Inspection, choice: RemedyChoice, errors: FormErrors) -> 
             assessment, target_occupants=choice.target_occupants, ballast_x_m=choice.ballast_x_m, rules=rules
         )
     except StabilityError as error:
-        errors.add(error.field, readable(error.message))
+        errors.add(error.field, translated_refusal(readable(error.message)))
         return size_remedies(
             assessment,
             target_occupants=choice.target_occupants,
@@ -155,9 +162,9 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
         "limit": float(remedies.layout.limit),
         "limit_text": remedies.layout.limit_text,
         "applied": applied,
-        "remedy_name": REMEDIES[choice.remedy],
+        "remedy_name": _(REMEDIES[choice.remedy]),
         "form": values,
-        "remedies": REMEDIES,
+        "remedies": {key: _(name) for key, name in REMEDIES.items()},
         "seats": seats,
     }
     return context, errors

@@ -12,6 +12,7 @@ from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import Conflict, ServiceError
+from app.i18n.active import gettext as _
 from app.stability import LAYOUTS
 from app.text import without_refused
 from app.vehicles.forms import PASSENGER_ROWS, read_vehicle_form
@@ -40,14 +41,17 @@ def find_page(
         if errors:
             pass
         elif not wanted:
-            errors.add("registration_number", "Enter a registration number, like BDG 252 QH")
+            errors.add(
+                "registration_number",
+                _("Enter a registration number, like %(plate)s") % {"plate": "BDG 252 QH"},
+            )
         elif (vehicle := find_vehicle(session, wanted)) is not None:
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
         else:
             errors.add(
                 "registration_number",
-                f"No vehicle {display_registration(wanted)} is registered. "
-                "Check the number, or register the vehicle",
+                _("No vehicle %(plate)s is registered. Check the number, or register the vehicle")
+                % {"plate": display_registration(wanted)},
             )
     return render(
         request,
@@ -92,7 +96,9 @@ def register(request: Request, session: SessionDep, login: PostLogin, form: Form
                 conflict_key = normalise_registration(values["registration_number"])
             parsed.errors.add_problems(error.problems, parsed.input_for, "registration_number")
         else:
-            set_flash(session, login, f"Vehicle {vehicle.registration_number} registered.")
+            set_flash(
+                session, login, _("Vehicle %(plate)s registered.") % {"plate": vehicle.registration_number}
+            )
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
     return render(
         request,

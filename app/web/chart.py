@@ -16,6 +16,7 @@ from fractions import Fraction
 
 from markupsafe import Markup, escape
 
+from app.i18n.active import gettext as _
 from app.stability import LSF_LIMIT
 from app.wording import verdict_mark
 
@@ -41,7 +42,7 @@ class ChartPoint:
 
 def short_label(occupants: int) -> str:
     """The axis label of a loading case: Empty, Driver, +1, +2, ..."""
-    return {0: "Empty", 1: "Driver"}.get(occupants, f"+{occupants - 1}")
+    return {0: _("Empty"), 1: _("Driver")}.get(occupants, f"+{occupants - 1}")
 
 
 def y_range(values: Sequence[float], limit: Fraction = LSF_LIMIT) -> tuple[float, float]:
@@ -78,20 +79,21 @@ def marker(x: float, y: float, compliant: bool, *, hollow: bool = False) -> str:
     )
 
 
+def _verdict_words(compliant: bool) -> str:
+    return _("C (compliant)") if compliant else _("NC (not compliant)")
+
+
 def case_list(points: Sequence[ChartPoint]) -> str:
     """Every case's LSF and verdict in words: 'Driver: 0.658, C (compliant); ...'."""
-    return "; ".join(
-        f"{p.long_label}: {p.lsf:.3f}, {'C (compliant)' if p.compliant else 'NC (not compliant)'}"
-        for p in points
-    )
+    return "; ".join(f"{p.long_label}: {p.lsf:.3f}, {_verdict_words(p.compliant)}" for p in points)
 
 
 def introduction(limit: Fraction = LSF_LIMIT) -> str:
     """The opening of a chart's text alternative: what it shows, against which limit."""
-    return (
-        f"Lateral Stability Factor for each loading case against the limit of "
-        f"{limit.numerator}/{limit.denominator} ({float(limit):.3f}); a case above the line is unstable."
-    )
+    return _(
+        "Lateral Stability Factor for each loading case against the limit of %(limit)s (%(decimal)s); "
+        "a case above the line is unstable."
+    ) % {"limit": f"{limit.numerator}/{limit.denominator}", "decimal": f"{float(limit):.3f}"}
 
 
 INTRODUCTION = introduction()
@@ -99,9 +101,9 @@ INTRODUCTION = introduction()
 
 def title_for(limit: Fraction = LSF_LIMIT) -> str:
     """The chart's title, naming the limit of the vehicle's layout."""
-    return (
-        f"Lateral Stability Factor per loading case, against the {limit.numerator}/{limit.denominator} limit"
-    )
+    return _("Lateral Stability Factor per loading case, against the %(limit)s limit") % {
+        "limit": f"{limit.numerator}/{limit.denominator}"
+    }
 
 
 def describe(points: Sequence[ChartPoint], limit: Fraction = LSF_LIMIT) -> str:
@@ -167,8 +169,8 @@ def chart_frame(
         _opening(chart_id, title, description),
         f'<rect class="chart__unstable" x="{LEFT}" y="{TOP}" width="{plot_w}" height="{limit_y - TOP:.1f}" '
         'fill="#fbe3df"/>',
-        _text(LEFT + 8, TOP + 21, "unstable", anchor="start", cls="chart__region"),
-        _text(LEFT + 8, TOP + plot_h - 10, "stable", anchor="start", cls="chart__region"),
+        _text(LEFT + 8, TOP + 21, _("unstable"), anchor="start", cls="chart__region"),
+        _text(LEFT + 8, TOP + plot_h - 10, _("stable"), anchor="start", cls="chart__region"),
     ]
     ticks = round((plot.high - plot.low) / plot.step)
     for i in range(ticks + 1):
@@ -180,7 +182,7 @@ def chart_frame(
         f'<line class="chart__limit" x1="{LEFT}" x2="{LEFT + plot_w}" y1="{limit_y:.1f}" y2="{limit_y:.1f}" '
         'stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
-    label = f"limit {limit.numerator}/{limit.denominator}"
+    label = _("limit %(limit)s") % {"limit": f"{limit.numerator}/{limit.denominator}"}
     parts.append(_text(LEFT + plot_w + 6, limit_y + 6, label, anchor="start", cls="chart__limit-label"))
     parts.append(_frame(LEFT, TOP, plot_w, plot_h))
     return parts
@@ -195,7 +197,7 @@ def chart_close(plot: Plot) -> list[str]:
     """The axis titles and the end of the SVG."""
     middle = TOP + plot.height / 2
     return [
-        _text(LEFT + plot.width / 2, HEIGHT - 8, "Loading case (occupants)"),
+        _text(LEFT + plot.width / 2, HEIGHT - 8, _("Loading case (occupants)")),
         f'<text x="16" y="{middle:.1f}" text-anchor="middle" font-size="17" '
         f'transform="rotate(-90 16 {middle:.1f})">LSF</text>',
         "</svg>",
@@ -272,11 +274,13 @@ def before_after_chart(
 ) -> Markup:
     """Each case's LSF today (hollow, dashed) and after `remedy` (marked C or NC), on one scale."""
     plot = plot_for([p.lsf for p in [*before, *after]], len(before), limit)
-    title = (
-        f"LSF per loading case today and {remedy}, against the {limit.numerator}/{limit.denominator} limit"
-    )
+    title = _("LSF per loading case today and %(remedy)s, against the %(limit)s limit") % {
+        "remedy": remedy,
+        "limit": f"{limit.numerator}/{limit.denominator}",
+    }
     after_words = f"{remedy[:1].upper()}{remedy[1:]}: {case_list(after)}"
-    description = f"{introduction(limit)} Today: {case_list(before)}. {after_words}."
+    today = _("Today: %(cases)s.") % {"cases": case_list(before)}
+    description = f"{introduction(limit)} {today} {after_words}."
     parts = chart_frame(plot, chart_id=chart_id, title=title, description=description, limit=limit)
     parts += series(plot, before, shift=-0.08, muted=True, name="before")
     parts += series(plot, after, shift=0.08, name="after")
@@ -352,19 +356,27 @@ def map_geometry(points: Sequence[MapPoint], min_rollover_g: float | None) -> Ma
 def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> str:
     """The map's text alternative: every case's LSF, threshold and verdict, and the lines."""
     cases = "; ".join(
-        f"{p.long_label}: LSF {p.lsf:.3f}, rollover threshold {p.rollover_g:.3f} g, "
-        f"{'C (compliant)' if p.compliant else 'NC (not compliant)'}"
+        _("%(case)s: LSF %(lsf)s, rollover threshold %(threshold)s g, %(verdict)s")
+        % {
+            "case": p.long_label,
+            "lsf": f"{p.lsf:.3f}",
+            "threshold": f"{p.rollover_g:.3f}",
+            "verdict": _verdict_words(p.compliant),
+        }
         for p in points
     )
     minimum = (
-        f" The minimum rollover threshold is {min_rollover_g:.2f} g; a case below that line tips too easily."
+        " "
+        + _("The minimum rollover threshold is %(minimum)s g; a case below that line tips too easily.")
+        % {"minimum": f"{min_rollover_g:.2f}"}
         if min_rollover_g is not None
         else ""
     )
-    return (
-        f"Each loading case's LSF (across) against its estimated rollover threshold (up). Right of the "
-        f"2/3 line ({LIMIT_TEXT}) a case is yaw-unstable.{minimum} {cases}."
-    )
+    opening = _(
+        "Each loading case's LSF (across) against its estimated rollover threshold (up). Right of the "
+        "2/3 line (%(limit)s) a case is yaw-unstable."
+    ) % {"limit": LIMIT_TEXT}
+    return f"{opening}{minimum} {cases}."
 
 
 @dataclass(frozen=True)

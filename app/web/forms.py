@@ -10,7 +10,9 @@ from decimal import Decimal, InvalidOperation
 from starlette.datastructures import FormData
 
 from app.errors import FieldProblem
+from app.i18n.active import gettext as _
 from app.text import TextRefused, character_problem, check_text, without_refused
+from app.web.refusals import translated_refusal
 
 # The core and services start each message with the field's path ("readings.front_kg[1]: ...").
 _FIELD_PREFIX = re.compile(r"^[A-Za-z_][\w.\[\]]*: ")
@@ -43,7 +45,10 @@ def secret(form: FormData, name: str, errors: FormErrors, *, limit: int) -> str:
     if problem is not None:
         errors.add(name, readable(problem.message))
     elif len(value) > limit:
-        errors.add(name, f"Give at most {limit} characters, not {len(value)}")
+        errors.add(
+            name,
+            _("Give at most %(limit)s characters, not %(count)s") % {"limit": limit, "count": len(value)},
+        )
     else:
         return value
     return ""
@@ -95,9 +100,10 @@ class FormErrors:
     def add_problems(
         self, problems: Iterable[FieldProblem], input_for: dict[str, str], fallback: str
     ) -> None:
-        """Attach service problems to inputs, matching the longest known path prefix."""
+        """Attach service problems to inputs by the longest known path prefix, in the page's language."""
         for problem in problems:
-            self.add(find_input(problem.field, input_for, fallback), readable(problem.message))
+            message = translated_refusal(readable(problem.message))
+            self.add(find_input(problem.field, input_for, fallback), message)
 
     def __bool__(self) -> bool:
         return bool(self.messages)
@@ -116,10 +122,12 @@ def read_date(raw: str, input_id: str, errors: FormErrors) -> date | None:
     try:
         day = date.fromisoformat(raw)
     except ValueError:
-        errors.add(input_id, "Enter the date as year-month-day, like 2026-11-23")
+        errors.add(
+            input_id, _("Enter the date as year-month-day, like %(example)s") % {"example": "2026-11-23"}
+        )
         return None
     if not FIRST_FILTER_DAY <= day <= LAST_FILTER_DAY:
-        errors.add(input_id, "Enter a date from 1 January 2000 to 31 December 2099")
+        errors.add(input_id, _("Enter a date from 1 January 2000 to 31 December 2099"))
         return None
     return day
 

@@ -1,0 +1,1 @@
+"""Tests of the pages in each language trikecert speaks."""
