@@ -56,4 +56,9 @@ def pgettext(context: str, message: str) -> str:
     return translations(_active.get()).pgettext(context, message)
 
 
+def N_(message: str) -> str:  # noqa: N802 -- the name gettext tools know
+    """Mark a message for extraction where it is defined; it is translated (gettext) where it is used."""
+    return message
+
+
 _ = gettext
