@@ -24,7 +24,7 @@ PLACEHOLDER = re.compile(r"%\((\w+)\)[sd]")
 def _extracted() -> set[tuple[str | None, tuple[str, ...]]]:
     """(context, msgid and plural) of every message marked in app/ and templates/, as babel.cfg says."""
     with (ROOT / "babel.cfg").open() as cfg:
-        method_map, options_map = parse_mapping_cfg(cfg)
+        method_map, options_map = parse_mapping_cfg(cfg)  # type: ignore[no-untyped-call]
     found: set[tuple[str | None, tuple[str, ...]]] = set()
     for _file, _line, message, _comments, context in extract_from_dir(
         str(ROOT), method_map, options_map, keywords=KEYWORDS

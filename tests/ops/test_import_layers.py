@@ -22,6 +22,7 @@ KERNEL = {
     "app.db",
     "app.errors",
     "app.grants",
+    "app.i18n",
     "app.group_commit",
     "app.ids",
     "app.migrate",
