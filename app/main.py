@@ -24,7 +24,7 @@ from app.ops.metrics import router as metrics_router
 from app.ops.public_limit import PublicRateLimit
 from app.ops.requests import RequestContext, configure_logging
 from app.web.headers import install_security_headers
-from app.web.language import LanguageMiddleware
+from app.web.language import LanguageMiddleware, language_router
 from app.web.setup import install_web
 
 DESCRIPTION = """\
@@ -71,6 +71,7 @@ def create_app() -> FastAPI:
     app.include_router(api_router)
     app.include_router(public_router)
     app.include_router(metrics_router)
+    app.include_router(language_router)
     for router in callback_routers:
         app.include_router(router)
     install_docs(app)

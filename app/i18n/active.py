@@ -56,9 +56,9 @@ def pgettext(context: str, message: str) -> str:
     return translations(_active.get()).pgettext(context, message)
 
 
-_ = gettext
-
-
-def N_(message: str) -> str:  # noqa: N802 (gettext's conventional name)
-    """Mark a message for extraction without translating it (translate it with gettext() when used)."""
+def N_(message: str) -> str:  # noqa: N802 -- the name gettext tools know
+    """Mark a message for extraction where it is defined; it is translated (gettext) where it is used."""
     return message
+
+
+_ = gettext

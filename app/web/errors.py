@@ -14,21 +14,26 @@ from starlette.responses import RedirectResponse, Response
 from app.api.errors import DATABASE_ERRORS, note_outage, retry_later_headers
 from app.db import is_outage
 from app.errors import ServiceError
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.web.csrf import CsrfRefused
 from app.web.deps import ConfirmIdentity, Forbidden, SignInRequired
 from app.web.templating import render
 
 Handler = Callable[[Request, Exception], Awaitable[Response]]
 
+# Marked here, translated when a page is drawn (the request's language).
 TITLES = {
-    400: "Sorry, there is a problem with this request",
-    403: "You cannot do that",
-    404: "Page not found",
-    405: "Sorry, that did not work",
-    413: "The form is too large",
-    422: "Sorry, there is a problem with this request",
-    503: "Sorry, the service is not available right now",
+    400: N_("Sorry, there is a problem with this request"),
+    403: N_("You cannot do that"),
+    404: N_("Page not found"),
+    405: N_("Sorry, that did not work"),
+    413: N_("The form is too large"),
+    422: N_("Sorry, there is a problem with this request"),
+    503: N_("Sorry, the service is not available right now"),
 }
+UNKNOWN_TITLE = N_("Sorry, there is a problem")
+NOT_FOUND = N_("Check the address, or use the links above.")
 
 
 def wants_html(request: Request) -> bool:
@@ -46,8 +51,9 @@ def error_page(
         request,
         "errors/error.html",
         {
-            "title": title or TITLES.get(status, "Sorry, there is a problem"),
-            "message": message,
+            # A message with no translation (a service error's own text) stays as it is.
+            "title": _(title or TITLES.get(status, UNKNOWN_TITLE)),
+            "message": _(message),
             "status": status,
             "retry_url": retry_url,
         },
@@ -67,15 +73,17 @@ async def on_csrf_refused(request: Request, _exc: Exception) -> Response:
     return error_page(
         request,
         403,
-        "The form was out of date or did not come from this service, so nothing was saved. "
-        "Sign in again if you need to, go back, reload the page and try again.",
-        title="Sorry, you will have to start again",
+        N_(
+            "The form was out of date or did not come from this service, so nothing was saved. "
+            "Sign in again if you need to, go back, reload the page and try again."
+        ),
+        title=N_("Sorry, you will have to start again"),
     )
 
 
 async def on_forbidden(request: Request, _exc: Exception) -> Response:
     """403: the role does not allow the page."""
-    return error_page(request, 403, "Only an administrator can use this page.")
+    return error_page(request, 403, N_("Only an administrator can use this page."))
 
 
 async def on_confirm_identity(request: Request, exc: Exception) -> Response:
@@ -105,7 +113,7 @@ def _fallback(previous: Handler | None, html: Callable[[Request, Exception], Res
 
 def _http_page(request: Request, exc: Exception) -> Response:
     assert isinstance(exc, StarletteHTTPException)
-    message = "Check the address, or use the links above." if exc.status_code == 404 else str(exc.detail)
+    message = NOT_FOUND if exc.status_code == 404 else str(exc.detail)
     return error_page(request, exc.status_code, message)
 
 
@@ -116,7 +124,7 @@ def _service_page(request: Request, exc: Exception) -> Response:
 
 
 def _validation_page(request: Request, _exc: Exception) -> Response:
-    return error_page(request, 404, "Check the address, or use the links above.")
+    return error_page(request, 404, NOT_FOUND)
 
 
 def _outage_page(request: Request, exc: Exception) -> Response:
@@ -127,11 +135,14 @@ def _outage_page(request: Request, exc: Exception) -> Response:
     request.state.login = None
     if request.method == "GET":
         query = f"?{request.url.query}" if request.url.query else ""
-        message, retry_url = "The database is not answering. Try again in a moment.", request.url.path + query
+        message = N_("The database is not answering. Try again in a moment.")
+        retry_url = request.url.path + query
     else:
         message, retry_url = (
-            "The database is not answering, so this may not have been saved. In a moment, "
-            "go back and send the form again: a form sent twice is stored only once.",
+            N_(
+                "The database is not answering, so this may not have been saved. In a moment, "
+                "go back and send the form again: a form sent twice is stored only once."
+            ),
             None,
         )
     response = error_page(request, 503, message, retry_url=retry_url)

@@ -9,9 +9,12 @@ from fractions import Fraction
 from functools import lru_cache
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
+from babel.dates import format_date
 from markupsafe import Markup, escape
 
 from app.config import get_settings
+from app.i18n.active import current_locale
+from app.i18n.locales import ENGLISH
 from app.stability import LAYOUTS, LSF_LIMIT
 
 
@@ -111,13 +114,18 @@ def local_time(moment: datetime) -> str:
     """A time in the display zone, its date as `long_date` words it, the zone named:
     23 November 2026, 14:05 WAT."""
     local = to_local(moment)
+    # Digits and the zone's abbreviation read the same in every language: only the date is worded.
     return f"{long_date(local.date())}, {local:%H:%M} {local.tzname() or 'UTC'}"
 
 
 def long_date(moment: datetime | date) -> str:
     """Every date on the pages, the papers and the command line: 1 December 2027, in the display zone."""
     local = to_local(moment) if isinstance(moment, datetime) else moment
-    return f"{local.day} {local:%B %Y}"
+    locale = current_locale()
+    if locale == ENGLISH:  # as it always was, whatever the machine's own locale
+        return f"{local.day} {local:%B %Y}"
+    # The same order in every language (1 Disamba 2027), the month's name from CLDR.
+    return format_date(local if not isinstance(local, datetime) else local.date(), "d MMMM y", locale=locale)
 
 
 def day_bounds(day: date) -> tuple[datetime, datetime]:

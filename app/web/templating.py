@@ -14,6 +14,7 @@ from starlette.templating import Jinja2Templates
 from app.config import get_settings
 from app.i18n import active as i18n
 from app.web import formatting
+from app.web.language import language_links
 from app.wording import (
     case_name,
     chart_caption,
@@ -54,6 +55,7 @@ _env.filters.update(
 )
 _env.globals.update(
     html_lang=i18n.html_lang,
+    language_links=language_links,
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
     case_name=case_name,

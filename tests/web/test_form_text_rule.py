@@ -257,6 +257,7 @@ def site(
                 "station_id": station_id.group(1),
                 "user_id": str(other.id),
                 "type_assessment_id": typed.headers["location"].rsplit("/", 1)[-1],
+                "locale": "ha",
                 "token": reminders.subscription.token,
             },
         )

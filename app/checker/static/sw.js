@@ -29,6 +29,23 @@ self.addEventListener("fetch", (event) => {
   if (event.request.method !== "GET" || url.origin !== self.location.origin || !KEEP.includes(url.pathname)) {
     return; // the bundle and anything else: straight to the network
   }
+  if (url.pathname === "/check/") {
+    // The page speaks the reader's language (its cookie): online, ask the server each time and keep
+    // the answer, so a change of language shows at once; offline, the last page kept.
+    event.respondWith(
+      fetch(event.request)
+        .then(async (fresh) => {
+          if (fresh.ok) await (await caches.open(SHELL)).put(url.pathname, fresh.clone());
+          return fresh;
+        })
+        .catch(async () => {
+          const kept = await (await caches.open(SHELL)).match(url.pathname);
+          if (kept) return kept;
+          throw new TypeError("offline and no page kept");
+        }),
+    );
+    return;
+  }
   event.respondWith(
     caches.open(SHELL).then(async (cache) => {
       const kept = await cache.match(url.pathname);
