@@ -14,7 +14,7 @@ from app.stations.models import Station
 
 LANGUAGES = ["ha", "yo", "ig", "pcm"]
 
-# Per page: a characteristic translation per language, and English sentences the page shows in
+# Per page: a characteristic translation per language (the glossary's, docs/translations.md), and English sentences the page shows in
 # English that must not be left over in any other language.
 PAGES: dict[str, tuple[dict[str, str], list[str]]] = {
     "/": (
@@ -22,7 +22,7 @@ PAGES: dict[str, tuple[dict[str, str], list[str]]] = {
         ["Today’s inspections", "No inspections yet today.", "Latest today"],
     ),
     "/admin/stations": (
-        {"ha": "Tashoshi", "yo": "Àwọn ibùdó", "ig": "Ọdụ ndị", "pcm": "Settings wey dey work now"},
+        {"ha": "Tashoshi", "yo": "Àwọn ibùdó", "ig": "Ọdụ", "pcm": "Settings wey dey work now"},
         ["Weighbridge stations submit readings over the API", "Calibration valid until", "Add a station"],
     ),
     "/admin/stations/new": (
@@ -39,7 +39,7 @@ PAGES: dict[str, tuple[dict[str, str], list[str]]] = {
         ["These settings decide inspections, certificates and sign-in.", "Settings in force"],
     ),
     "/statistics": (
-        {"ha": "Ƙididdiga", "yo": "Ìṣirò", "ig": "Ọnụ ọgụgụ", "pcm": "Download di count for each day (CSV)"},
+        {"ha": "Ƙididdiga", "yo": "Ìṣirò", "ig": "Ọnụọgụgụ", "pcm": "Download di count for each day (CSV)"},
         [
             "Download the counts per day (CSV)",
             "Per station",
@@ -49,15 +49,15 @@ PAGES: dict[str, tuple[dict[str, str], list[str]]] = {
     ),
     "/admin/audit": (
         {
-            "ha": "Rajistar bincike",
-            "yo": "Àkọsílẹ̀ ìṣàyẹ̀wò",
-            "ig": "Ndekọ nyocha",
+            "ha": "Tarihin ayyuka",
+            "yo": "Àkọsílẹ̀ ìṣe",
+            "ig": "Ndekọ omume",
             "pcm": "Download dis events (CSV)",
         },
         ["The record is intact.", "Download these events (CSV)", "Kind of actor"],
     ),
     "/admin/users": (
-        {"ha": "Masu amfani", "yo": "Àwọn olùmúlò", "ig": "Ndị ọrụ", "pcm": "Add user"},
+        {"ha": "Masu amfani", "yo": "Àwọn olùlò", "ig": "Ndị ojiji", "pcm": "Add user"},
         ["Add a user", "Set a new password"],
     ),
     "/admin/reminders": (
