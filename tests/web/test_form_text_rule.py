@@ -257,7 +257,7 @@ def site(
                 "station_id": station_id.group(1),
                 "user_id": str(other.id),
                 "type_assessment_id": typed.headers["location"].rsplit("/", 1)[-1],
-                "locale": "ha",
+                "locale": "en",  # the switcher link sets the language it names: the walk reads English
                 "token": reminders.subscription.token,
             },
         )
