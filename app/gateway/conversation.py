@@ -145,7 +145,9 @@ def ussd(session: Session, phone_number: str, text: str, settings: Settings, now
     """The screen for a USSD session whose choices so far are `text`, joined by '*'."""
     phone = _phone(phone_number, settings)
     with use_locale(phone_language(session, phone) if phone else ENGLISH):
-        return _ussd(session, phone, phone_number, text, settings, now)
+        screen = _ussd(session, phone, phone_number, text, settings, now)
+        # Fitted here, where the language is known: a translated screen in phone spelling.
+        return Screen(first_fitting([screen.text], SCREEN), screen.more)
 
 
 def _ussd(
@@ -178,8 +180,8 @@ def _ussd(
             return Screen(LANGUAGE_CHOICES, more=True)
         choose_language(session, phone or "", chosen, now)
         session.commit()
-        with use_locale(chosen):
-            return Screen(language_chosen(chosen), more=False)
+        with use_locale(chosen):  # fitted in the new language's spelling
+            return Screen(first_fitting([language_chosen(chosen)], SCREEN), more=False)
     return Screen(_("Choose 1, 2 or 3. %(ask)s") % {"ask": ask()}, more=False)
 
 
