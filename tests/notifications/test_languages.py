@@ -55,12 +55,14 @@ def test_sms_lang_yo_then_check_answers_in_yoruba_and_is_remembered_by_digest_on
     assert sms(client, "CHECK OYO 400 NN", "ATXid_check") == 200
     reply = replies(session)[-1]
     assert reply.startswith("OYO 400 NN: KO NI IWE-ERI."), reply
-    assert is_gsm7(reply) and fits_sms(reply)
+    assert is_gsm7(reply)
+    assert fits_sms(reply)
     assert sms(client, "zzz 999 zz", "ATXid_unknown") == 200
     assert replies(session)[-1] == "Ko si keke ZZZ 999 ZZ ninu akosile: sayewo nomba oko ki o tun fi ranse."
     kept = session.scalars(select(PhoneLanguage)).all()
     assert [row.language for row in kept] == ["yo"]
-    assert PHONE.lstrip("+") not in kept[0].phone_digest and "8012345667" not in kept[0].phone_digest
+    assert PHONE.lstrip("+") not in kept[0].phone_digest
+    assert "8012345667" not in kept[0].phone_digest
     # The other words that name a language: HAUSA alone, and LANG with a language's English name.
     assert sms(client, "hausa", "ATXid_hausa") == 200
     assert replies(session)[-1].startswith(HAUSA_CHOSEN)
@@ -134,7 +136,8 @@ def test_the_reminders_page_speaks_the_cookies_language(client: TestClient, loca
             gettext("Send the link"),
         )
     assert f"<h1>{heading}</h1>" in page.text
-    assert label in page.text and button in page.text
+    assert label in page.text
+    assert button in page.text
     if locale != "en":
         assert "Get reminders before a certificate expires" not in page.text
         assert "Send the link" not in page.text
@@ -152,7 +155,8 @@ def test_a_subscription_made_in_hausa_gets_its_confirmation_email_in_hausa(
         "/reminders", data={"csrf_token": token[1], "plate": "ktu 417 xa", "email": "a@example.ng"}
     )
     assert done.status_code == 200
-    assert "Mun aika hanyar haɗi zuwa" in done.text and '<html lang="ha"' in done.text
+    assert "Mun aika hanyar haɗi zuwa" in done.text
+    assert '<html lang="ha"' in done.text
     subscription = session.scalars(select(Subscription)).one()
     assert subscription.language == "ha"
     message = session.scalars(select(OutboxMessage).where(OutboxMessage.purpose == "confirm")).one()
@@ -161,4 +165,5 @@ def test_a_subscription_made_in_hausa_gets_its_confirmation_email_in_hausa(
     assert f"/reminders/confirm/{subscription.token}" in message.body
     # A bad input's message in Hausa too.
     refused = client.post("/reminders", data={"csrf_token": token[1], "plate": "", "email": "a@example.ng"})
-    assert refused.status_code == 422 and "Shigar da lambar mota, kamar BDG 252 QH" in refused.text
+    assert refused.status_code == 422
+    assert "Shigar da lambar mota, kamar BDG 252 QH" in refused.text
