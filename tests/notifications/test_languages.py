@@ -4,15 +4,20 @@ SMS or one USSD screen; the /reminders pages and a subscription's emails speak t
 from __future__ import annotations
 
 import re
+from datetime import timedelta
 
 import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import select
 from sqlalchemy.orm import Session
 
+from app import config
+from app.certificates.models import Certificate
+from app.db import utcnow
 from app.i18n.active import gettext, use_locale
 from app.i18n.locales import HTML_LANG, LOCALES
 from app.notifications.models import OutboxMessage, PhoneLanguage, Subscription
+from app.notifications.service import plan_reminders
 from app.notifications.sms_text import USSD_SCREEN, fits_sms, is_gsm7, sms_units
 from notifications.phone_helpers import PHONE, State, certify, weigh
 from notifications.test_gateway_check import replies, sms, ussd
@@ -167,3 +172,40 @@ def test_a_subscription_made_in_hausa_gets_its_confirmation_email_in_hausa(
     refused = client.post("/reminders", data={"csrf_token": token[1], "plate": "", "email": "a@example.ng"})
     assert refused.status_code == 422
     assert "Shigar da lambar mota, kamar BDG 252 QH" in refused.text
+
+
+def test_reminders_speak_the_phones_choice_and_the_language_an_email_subscribed_in(
+    api: TestClient, client: TestClient, session: Session
+) -> None:
+    number = certify(api, weigh(api, "KTU 417 XA"))
+    assert sms(client, "LANG HA", "ATXid_ha") == 200
+    assert sms(client, "REMIND KTU 417 XA", "ATXid_remind") == 200
+    client.cookies.set("trikecert_lang", "yo")
+    form = client.get("/reminders")
+    token = re.search(r'name="csrf_token" value="([^"]+)"', form.text)
+    assert token is not None
+    data = {"csrf_token": token[1], "plate": "KTU 417 XA", "email": "a@example.ng"}
+    assert client.post("/reminders", data=data).status_code == 200
+    session.expire_all()
+    confirm_sms = session.scalars(
+        select(OutboxMessage.body).where(OutboxMessage.purpose == "confirm", OutboxMessage.channel == "sms")
+    ).one()
+    assert confirm_sms.startswith("Lambar trikecert ")
+    assert is_gsm7(confirm_sms)
+    for subscription in session.scalars(select(Subscription)):
+        subscription.confirmed_at = utcnow()
+    session.commit()
+    expires = session.scalars(select(Certificate.expires_at).where(Certificate.number == number)).one()
+    assert plan_reminders(session, config.get_settings(), now=expires - timedelta(days=20)) == 2
+    by_channel = {
+        row.channel: row
+        for row in session.scalars(select(OutboxMessage).where(OutboxMessage.purpose == "reminder_30"))
+    }
+    assert "zai kare nan da kwana 30" in by_channel["sms"].body  # Hausa, as texted
+    assert by_channel["sms"].body.endswith("Amsa STOP don dakatarwa.")
+    assert fits_sms(by_channel["sms"].body)
+    email = by_channel["email"]
+    assert email.subject is not None
+    assert "yóò parí ní ọjọ́ 30 sí i" in email.subject  # Yoruba, with its marks
+    assert "Láti dá àwọn ìránlétí wọ̀nyí dúró, ṣí líǹkì yìí:" in email.body
+    assert email.unsubscribe_url is not None
