@@ -37,7 +37,7 @@ def test_a_ussd_session_choosing_hausa_then_checking_a_plate_is_answered_in_haus
     assert chosen.startswith(f"END {HAUSA_CHOSEN}")
     menu = ussd(client, "", "ATUid_check")
     assert menu == (
-        "CON Binciken keke\n1. Duba keke\n2. Tunatar da ni kafin ya kare\n3. Dakatar da tunatarwa\n"
+        "CON Binciken keke\n1. Duba keke\n2. Tunatar da ni kafin ta kare\n3. Dakatar da tunatarwa\n"
         "4. Language/Harshe/Ede/Asusu"
     )
     assert ussd(client, "1", "ATUid_check") == "CON Shigar da lambar mota ko lambar takardar shaida"
@@ -201,7 +201,7 @@ def test_reminders_speak_the_phones_choice_and_the_language_an_email_subscribed_
         row.channel: row
         for row in session.scalars(select(OutboxMessage).where(OutboxMessage.purpose == "reminder_30"))
     }
-    assert "zai kare nan da kwana 30" in by_channel["sms"].body  # Hausa, as texted
+    assert "za ta kare nan da kwana 30" in by_channel["sms"].body  # Hausa, as texted
     assert by_channel["sms"].body.endswith("Amsa STOP don dakatarwa.")
     assert fits_sms(by_channel["sms"].body)
     email = by_channel["email"]
