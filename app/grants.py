@@ -61,6 +61,7 @@ PRIVILEGES: dict[str, str] = {
     "notification_outbox": DISPOSABLE,
     "notification_check": DISPOSABLE,  # the per-phone limit's log, pruned after a day
     "notification_day": EDITABLE,  # counts by day, bumped by one upsert
+    "notification_phone_language": EDITABLE,  # a phone digest's chosen language, upserted
     "alembic_version": "SELECT",  # /readyz checks the revision
 }
 ROLE_NAME = re.compile(r"[a-z_][a-z0-9_]{0,62}")

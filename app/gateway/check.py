@@ -15,6 +15,7 @@ from app.certificates.in_force import current_document
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_status, find_certificate
 from app.certificates.wording import lapsed_sentence, not_on_record, sentence, until_sentence
+from app.i18n.active import gettext as _
 from app.notifications.messages import short_date
 from app.notifications.sms_text import first_fitting
 from app.trust.numbers import PREFIX, InvalidNumber, normalise, parse_number
@@ -22,7 +23,10 @@ from app.vehicles.service import display_registration, find_vehicle, lookup_key
 from app.web.formatting import long_date
 from app.wording import document_kind, status_headline_on
 
-ASK = "Send a plate like BDG 252 QH or a certificate number like TRK-2026-000123-K."
+
+def ask() -> str:
+    """How to write what a check needs."""
+    return _("Send a plate like BDG 252 QH or a certificate number like TRK-2026-000123-K.")
 
 
 @dataclass(frozen=True)
@@ -76,7 +80,10 @@ def _document_texts(certificate: Certificate, now: datetime) -> Iterator[str]:
         if status == "issued":
             parts.append(until_sentence(kind, date_words(certificate.expires_at)))
         if newer is not None:
-            parts.append(f"Only {document_kind(newer.kind)} {newer.number} counts.")
+            if newer.kind == "compliant":
+                parts.append(_("Only certificate %(number)s counts.") % {"number": newer.number})
+            else:
+                parts.append(_("Only refusal %(number)s counts.") % {"number": newer.number})
         yield " ".join([*parts, number])
         yield " ".join(parts)
 
@@ -90,13 +97,13 @@ def find(session: Session, query: str, now: datetime) -> Found | str:
         except InvalidNumber as error:
             if error.rule == "check_letter":
                 return f"{sentence(str(error))}"
-            return ASK
+            return ask()
         certificate = find_certificate(session, canonical)
         if certificate is None:
             return sentence(not_on_record(canonical))
         return Found(certificate.registration_number, certificate, certificate.vehicle_id)
     if lookup_key(text) is None:
-        return ASK
+        return ask()
     vehicle = find_vehicle(session, text)
     if vehicle is None:
         return not_registered(display_registration(text))
@@ -105,12 +112,12 @@ def find(session: Session, query: str, now: datetime) -> Found | str:
 
 def not_registered(plate: str) -> str:
     """A plate no vehicle has: say so, and how to try again."""
-    return f"No keke {plate} is registered: check the plate and send it again."
+    return _("No keke %(plate)s is registered: check the plate and send it again.") % {"plate": plate}
 
 
 def no_document(plate: str) -> str:
     """A registered vehicle that has neither a certificate nor a refusal."""
-    return f"{plate}: NOT CERTIFIED. No certificate or refusal is on record."
+    return _("%(plate)s: NOT CERTIFIED. No certificate or refusal is on record.") % {"plate": plate}
 
 
 def answer(session: Session, query: str, now: datetime, screen: int | None = None) -> str:

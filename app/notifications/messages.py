@@ -6,13 +6,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from datetime import datetime
 
+from babel.dates import format_date
+
 from app.certificates.models import Certificate
 from app.certificates.wording import lapsed_sentence, until_sentence
+from app.i18n.active import current_locale
+from app.i18n.active import gettext as _
+from app.i18n.locales import ENGLISH
 from app.notifications.sms_text import first_fitting
 from app.web.formatting import long_date, to_local
 from app.wording import document_kind, status_headline_on
 
-STOP_HINT = "Reply STOP to end."
 STAGE_DAYS = {"reminder_30": 30, "reminder_7": 7}
 
 
@@ -27,7 +31,9 @@ class Text:
 def short_date(moment: datetime) -> str:
     """A date as `long_date` words it, the month cut to three letters: 1 Dec 2027."""
     local = to_local(moment)
-    return f"{local.day} {local:%b %Y}"
+    if current_locale() == ENGLISH:
+        return f"{local.day} {local:%b %Y}"
+    return format_date(local.date(), "d MMM y", locale=current_locale())
 
 
 def confirm_sms(plate: str, code: str) -> Text:
@@ -36,9 +42,13 @@ def confirm_sms(plate: str, code: str) -> Text:
         None,
         first_fitting(
             [
-                f"trikecert code {code}. Reply YES {code} to be reminded before the certificate of {plate} "
-                "expires. Did not ask? Ignore this.",
-                f"trikecert code {code}. Reply YES {code} for reminders about {plate}.",
+                _(
+                    "trikecert code %(code)s. Reply YES %(code)s to be reminded before the certificate of "
+                    "%(plate)s expires. Did not ask? Ignore this."
+                )
+                % {"code": code, "plate": plate},
+                _("trikecert code %(code)s. Reply YES %(code)s for reminders about %(plate)s.")
+                % {"code": code, "plate": plate},
             ]
         ),
     )
@@ -47,10 +57,17 @@ def confirm_sms(plate: str, code: str) -> Text:
 def confirm_email(plate: str, link: str) -> Text:
     """The link an email address confirms its reminders with."""
     return Text(
-        f"Confirm reminders for {plate}",
-        f"Someone asked for reminders before the certificate of {plate} expires to be sent to this "
-        f"address.\n\nTo confirm, open this link:\n{link}\n\nIf it was not you, ignore this email: "
-        "nothing more will be sent.\n",
+        _("Confirm reminders for %(plate)s") % {"plate": plate},
+        _(
+            "Someone asked for reminders before the certificate of %(plate)s expires to be sent to this "
+            "address."
+        )
+        % {"plate": plate}
+        + "\n\n"
+        + _("To confirm, open this link:")
+        + f"\n{link}\n\n"
+        + _("If it was not you, ignore this email: nothing more will be sent.")
+        + "\n",
     )
 
 
@@ -65,16 +82,18 @@ def reminder_sentences(stage: str, certificate: Certificate, short: bool = False
         return [f"{plate}: {number} {headline}.", lapsed_sentence(kind, "expired")]
     days = STAGE_DAYS[stage]
     return [
-        f"{plate}: {number} runs out in {days} days.",
+        _("%(plate)s: %(document)s runs out in %(days)d days.")
+        % {"plate": plate, "document": number, "days": days},
         until_sentence(kind, words(certificate.expires_at)),
-        "Weigh the keke again before then.",
+        _("Weigh the keke again before then."),
     ]
 
 
 def reminder_sms(stage: str, certificate: Certificate) -> Text:
     """A reminder as one SMS, with how to stop them."""
     candidates = [
-        " ".join([*reminder_sentences(stage, certificate, short), STOP_HINT]) for short in (False, True)
+        " ".join([*reminder_sentences(stage, certificate, short), _("Reply STOP to end.")])
+        for short in (False, True)
     ]
     return Text(None, first_fitting(candidates))
 
@@ -85,7 +104,10 @@ def reminder_email(stage: str, certificate: Certificate, verify_url: str, unsubs
     subject = sentences[0].rstrip(".")
     body = (
         " ".join(sentences)
-        + f"\n\nCheck it at any time: {verify_url}\n\n"
-        + f"To stop these reminders, open this link: {unsubscribe_url}\n"
+        + "\n\n"
+        + _("Check it at any time: %(url)s") % {"url": verify_url}
+        + "\n\n"
+        + _("To stop these reminders, open this link: %(url)s") % {"url": unsubscribe_url}
+        + "\n"
     )
     return Text(subject, body)

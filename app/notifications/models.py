@@ -42,6 +42,18 @@ class Subscription(Base):
     code_failures: Mapped[int] = mapped_column(Integer, default=0)
     confirmed_at: Mapped[datetime | None] = mapped_column(UTCDateTime())
     created_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
+    # The language the subscriber asked in ('ha', ...): its confirmation and reminders speak it.
+    language: Mapped[str | None] = mapped_column(String(8))
+
+
+class PhoneLanguage(Base):
+    """The language a phone chose (SMS LANG, USSD 4) for its replies and reminder SMS, by its digest."""
+
+    __tablename__ = "notification_phone_language"
+
+    phone_digest: Mapped[str] = mapped_column(String(64), primary_key=True)
+    language: Mapped[str] = mapped_column(String(8))
+    chosen_at: Mapped[datetime] = mapped_column(UTCDateTime(), default=utcnow)
 
 
 class OutboxMessage(Base):

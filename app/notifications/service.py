@@ -19,8 +19,11 @@ from sqlalchemy.orm import Session
 from app.certificates.in_force import current_document
 from app.config import Settings
 from app.db import utcnow
+from app.i18n.active import use_locale
+from app.i18n.locales import ENGLISH, LOCALES
 from app.notifications import messages
 from app.notifications.contacts import digest, mask
+from app.notifications.languages import chosen_language
 from app.notifications.models import GatewayCheck, NotificationDay, OutboxMessage, Subscription
 from app.vehicles.models import Vehicle
 from app.web.formatting import to_local
@@ -116,8 +119,10 @@ def subscribe(
     settings: Settings,
     now: datetime | None = None,
     dedupe_key: str | None = None,
+    language: str | None = None,
 ) -> Subscribed:
-    """Ask for reminders about a vehicle: a code (SMS) or a link (email) goes to the contact first.
+    """Ask for reminders about a vehicle: a code (SMS) or a link (email) goes to the contact first,
+    in the language asked in (kept for the reminders).
 
     LimitReached when this contact, or this client address, has had its confirmations for the day.
     """
@@ -147,18 +152,20 @@ def subscribe(
         token=secrets.token_urlsafe(32),
         created_at=now,
     )
+    subscription.language = language if language in LOCALES else None
     session.add(subscription)
     session.flush()
-    if channel == "sms":
-        code = f"{secrets.randbelow(10**6):06d}"
-        subscription.code_hash = _code_hash(subscription.token, code)
-        subscription.code_failures = 0
-        subscription.created_at = now  # the code's age
-        text = messages.confirm_sms(vehicle.registration_number, code)
-    else:
-        text = messages.confirm_email(
-            vehicle.registration_number, link(settings, "confirm", subscription.token)
-        )
+    with use_locale(subscription.language or ENGLISH):
+        if channel == "sms":
+            code = f"{secrets.randbelow(10**6):06d}"
+            subscription.code_hash = _code_hash(subscription.token, code)
+            subscription.code_failures = 0
+            subscription.created_at = now  # the code's age
+            text = messages.confirm_sms(vehicle.registration_number, code)
+        else:
+            text = messages.confirm_email(
+                vehicle.registration_number, link(settings, "confirm", subscription.token)
+            )
     enqueue(
         session,
         channel=channel,
@@ -318,11 +325,12 @@ def plan_reminders(session: Session, settings: Settings, now: datetime | None = 
         if key_taken(session, key):
             continue
         unsubscribe_url = link(settings, "unsubscribe", subscription.token)
-        if subscription.channel == "sms":
-            text = messages.reminder_sms(stage, certificate)
-        else:
-            verify = f"{settings.base_url.rstrip('/')}/verify/{certificate.number}"
-            text = messages.reminder_email(stage, certificate, verify, unsubscribe_url)
+        with use_locale(_language_of(session, subscription)):
+            if subscription.channel == "sms":
+                text = messages.reminder_sms(stage, certificate)
+            else:
+                verify = f"{settings.base_url.rstrip('/')}/verify/{certificate.number}"
+                text = messages.reminder_email(stage, certificate, verify, unsubscribe_url)
         try:
             enqueue(
                 session,
@@ -340,6 +348,15 @@ def plan_reminders(session: Session, settings: Settings, now: datetime | None = 
         except IntegrityError:
             session.rollback()
     return written
+
+
+def _language_of(session: Session, subscription: Subscription) -> str:
+    """A reminder's language: a phone's latest choice (SMS LANG, USSD 4), else the one subscribed in."""
+    if subscription.channel == "sms":
+        chosen = chosen_language(session, subscription.contact)
+        if chosen is not None:
+            return chosen
+    return subscription.language if subscription.language in LOCALES else ENGLISH
 
 
 def vehicle_of(session: Session, subscription: Subscription) -> str:

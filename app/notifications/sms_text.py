@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import unicodedata
 from collections.abc import Iterable
+
+from app.i18n.active import current_locale
+from app.i18n.locales import ENGLISH
 
 GSM7_SMS = 160
 UCS2_SMS = 70
@@ -38,9 +42,22 @@ def fits_sms(text: str) -> bool:
     return sms_units(text) <= sms_limit(text)
 
 
+# Hausa's hooked letters as Hausa is texted (docs/translations.md, "SMS"); marks are dropped by NFD.
+_HOOKED = str.maketrans("ɓɗƙƴƁƊƘƳ", "bdkyBDKY")
+
+
+def phone_spelling(text: str) -> str:
+    """The text as the language is texted on a feature phone: Hausa ɓ ɗ ƙ ƴ as b d k y, and Yoruba's and
+    Igbo's dots and tone marks dropped (ẹ̀ → e, ụ → u), so a reply goes in GSM-7; pages keep the letters."""
+    decomposed = unicodedata.normalize("NFD", text.translate(_HOOKED))
+    return unicodedata.normalize("NFC", "".join(c for c in decomposed if not unicodedata.combining(c)))
+
+
 def first_fitting(candidates: Iterable[str], screen: int | None = None) -> str:
     """The first candidate that fits one SMS (or a USSD screen of `screen` characters); the last one
-    cut to fit when none does, so nothing sent is ever longer."""
+    cut to fit when none does, so nothing sent is ever longer. Outside English, in phone spelling."""
+    if current_locale() != ENGLISH:
+        candidates = map(phone_spelling, candidates)
     last = ""
     for text in candidates:
         last = text

@@ -15,6 +15,8 @@ from starlette.responses import Response
 from app.accounts.deps import AdminLogin
 from app.config import get_settings
 from app.db import utcnow
+from app.i18n.active import current_locale
+from app.i18n.active import gettext as _
 from app.notifications import service
 from app.notifications.contacts import ContactRefused, mask_email, normalise_email
 from app.notifications.models import NotificationDay, OutboxMessage, Subscription
@@ -60,37 +62,53 @@ def reminders_subscribe(request: Request, session: SessionDep, form: FormDep) ->
     values = {"email": email_text, "plate": plate}
     email = ""
     if not email_text and "email" not in errors.messages:
-        errors.add("email", "Enter your email address")
+        errors.add("email", _("Enter your email address"))
     elif email_text:
         try:
             email = normalise_email(email_text)
         except ContactRefused as refused:
-            errors.add("email", f"Enter an email address like name@example.com: {refused}")
+            errors.add(
+                "email", _("Enter an email address like name@example.com: %(reason)s") % {"reason": refused}
+            )
     vehicle = None
     if not plate and "plate" not in errors.messages:
-        errors.add("plate", "Enter the plate, like BDG 252 QH")
+        errors.add("plate", _("Enter the plate, like BDG 252 QH"))
     elif plate:
         vehicle = find_vehicle(session, plate)
         if vehicle is None:
-            errors.add("plate", f"No keke {display_registration(plate)} is registered: check the plate")
+            errors.add(
+                "plate",
+                _("No keke %(plate)s is registered: check the plate")
+                % {"plate": display_registration(plate)},
+            )
     if errors or vehicle is None:
         return _form(request, values, errors, status_code=422)
     client = request.client.host if request.client else ""
     try:
         subscribed = service.subscribe(
-            session, vehicle=vehicle, channel="email", contact=email, client=client, settings=get_settings()
+            session,
+            vehicle=vehicle,
+            channel="email",
+            contact=email,
+            client=client,
+            settings=get_settings(),
+            language=current_locale(),
         )
     except service.LimitReached:
-        errors.add("email", "Too many confirmation emails were sent today: try again tomorrow")
+        errors.add("email", _("Too many confirmation emails were sent today: try again tomorrow"))
         return _form(request, values, errors, status_code=429)
     masked = mask_email(email)
     if subscribed.confirmation_sent:
-        notice = (
-            f"We sent a link to {masked}. Open it to start the reminders for {vehicle.registration_number}."
-        )
+        notice = _("We sent a link to %(address)s. Open it to start the reminders for %(plate)s.") % {
+            "address": masked,
+            "plate": vehicle.registration_number,
+        }
     else:
-        notice = f"Reminders for {vehicle.registration_number} already go to {masked}."
-    return render(request, "notifications/done.html", {"heading": "Check your email", "notice": notice})
+        notice = _("Reminders for %(plate)s already go to %(address)s.") % {
+            "plate": vehicle.registration_number,
+            "address": masked,
+        }
+    return render(request, "notifications/done.html", {"heading": _("Check your email"), "notice": notice})
 
 
 @router.get("/reminders/confirm/{token}")
@@ -102,17 +120,17 @@ def reminders_confirm(request: Request, session: SessionDep, token: TOKEN) -> Re
             request,
             "notifications/done.html",
             {
-                "heading": "This link does not work",
-                "notice": "It was used to unsubscribe, or it is mistyped.",
+                "heading": _("This link does not work"),
+                "notice": _("It was used to unsubscribe, or it is mistyped."),
             },
             status_code=404,
         )
     plate = service.vehicle_of(session, subscription)
-    notice = (
-        f"You will get an email 30 and 7 days before the certificate of {plate} expires, and a day after. "
+    notice = _(
+        "You will get an email 30 and 7 days before the certificate of %(plate)s expires, and a day after. "
         "Every email has a link to stop them."
-    )
-    return render(request, "notifications/done.html", {"heading": "Reminders confirmed", "notice": notice})
+    ) % {"plate": plate}
+    return render(request, "notifications/done.html", {"heading": _("Reminders confirmed"), "notice": notice})
 
 
 @router.get("/reminders/unsubscribe/{token}")
@@ -133,11 +151,12 @@ def unsubscribe(request: Request, session: SessionDep, token: TOKEN) -> Response
     POST (RFC 8058, List-Unsubscribe-Post), which carries no cookie: the link's secret is the check."""
     plate = service.unsubscribe(session, token)
     notice = (
-        "Nothing more will be sent, and your address is deleted."
+        _("Nothing more will be sent, and your address is deleted.")
         if plate is None
-        else f"No more reminders about {plate} will be sent, and your address is deleted."
+        else _("No more reminders about %(plate)s will be sent, and your address is deleted.")
+        % {"plate": plate}
     )
-    return render(request, "notifications/done.html", {"heading": "Reminders stopped", "notice": notice})
+    return render(request, "notifications/done.html", {"heading": _("Reminders stopped"), "notice": notice})
 
 
 def day_counts(session: Session, since: date) -> list[dict[str, object]]:
