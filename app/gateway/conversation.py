@@ -50,16 +50,15 @@ class Screen:
 
 
 def menu() -> str:
-    """The first USSD screen in the active language; a translated one lists choice 4 (every menu takes
-    it; the English screen is kept as it was)."""
+    """The first USSD screen in the active language, choice 4 (the language) named in all five: a
+    phone that has not chosen yet reads English, and must find its own language from there."""
     lines = [
         _("Keke check"),
         _("1. Check a keke"),
         _("2. Remind me before it expires"),
         _("3. Stop reminders"),
+        LANGUAGE_LINE,
     ]
-    if current_locale() != ENGLISH:
-        lines.append(LANGUAGE_LINE)
     return "\n".join(lines)
 
 

@@ -57,7 +57,10 @@ def test_a_ussd_session_checks_each_state_in_the_verify_pages_words(
     for number, state in enumerate(states):
         session_id = f"ATUid_{number}"
         menu = ussd(client, "", session_id)
-        assert menu == "CON Keke check\n1. Check a keke\n2. Remind me before it expires\n3. Stop reminders"
+        assert menu == (
+            "CON Keke check\n1. Check a keke\n2. Remind me before it expires\n3. Stop reminders\n"
+            "4. Language/Harshe/Ede/Asusu"
+        )
         assert ussd(client, "1", session_id) == "CON Enter the plate or certificate number"
         answer = ussd(client, f"1*{state.query}", session_id)
         assert answer.startswith("END "), state.name
