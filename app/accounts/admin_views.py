@@ -20,6 +20,8 @@ from app.accounts.service import (
 )
 from app.accounts.sessions import set_flash
 from app.errors import ServiceError
+from app.i18n.active import gettext as _
+from app.i18n.active import pgettext
 from app.ids import UserId
 from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, secret, text
@@ -33,6 +35,11 @@ NEW_USER_INPUTS = {
     "role": "role-officer",
     "password": "password",
 }
+
+
+def role_name(role: str) -> str:
+    """The role as a page names it, in the active language (the stored value stays English)."""
+    return pgettext("role", "admin") if role == "admin" else pgettext("role", "officer")
 
 
 @router.get("")
@@ -82,7 +89,11 @@ def add_user(request: Request, session: SessionDep, login: ConfirmedAdminPost, f
             {"values": values, "errors": errors.messages, "roles": ROLES},
             status_code=status,
         )
-    set_flash(session, login, f"Account {user.email} ({user.role}) created.")
+    set_flash(
+        session,
+        login,
+        _("Account %(email)s (%(role)s) created.") % {"email": user.email, "role": role_name(user.role)},
+    )
     return RedirectResponse("/admin/users", status_code=303)
 
 
@@ -118,7 +129,11 @@ def save_details(
             {"account": account, "values": values, "errors": errors.messages},
             status_code=422,
         )
-    set_flash(session, login, f"{account.email} is now shown as {account.shown_as()}.")
+    set_flash(
+        session,
+        login,
+        _("%(email)s is now shown as %(name)s.") % {"email": account.email, "name": account.shown_as()},
+    )
     return RedirectResponse("/admin/users", status_code=303)
 
 
@@ -127,10 +142,14 @@ def disable_user(session: SessionDep, login: AdminPost, user_id: UserId) -> Resp
     """Disable an account and end its sessions (never your own)."""
     user = get_user(session, user_id)
     if user.id == login.user_id:
-        set_flash(session, login, "You cannot disable your own account.")
+        set_flash(session, login, _("You cannot disable your own account."))
     else:
         set_user_active(session, user=user, active=False)
-        set_flash(session, login, f"{user.email} is disabled and has been signed out everywhere.")
+        set_flash(
+            session,
+            login,
+            _("%(email)s is disabled and has been signed out everywhere.") % {"email": user.email},
+        )
     return RedirectResponse("/admin/users", status_code=303)
 
 
@@ -138,7 +157,7 @@ def disable_user(session: SessionDep, login: AdminPost, user_id: UserId) -> Resp
 def enable_user(session: SessionDep, login: AdminPost, user_id: UserId) -> Response:
     """Enable an account again."""
     user = set_user_active(session, user=get_user(session, user_id), active=True)
-    set_flash(session, login, f"{user.email} can sign in again.")
+    set_flash(session, login, _("%(email)s can sign in again.") % {"email": user.email})
     return RedirectResponse("/admin/users", status_code=303)
 
 
@@ -168,5 +187,9 @@ def reset_password(
             {"account": user, "errors": errors.messages},
             status_code=422,
         )
-    set_flash(session, login, f"New password set for {user.email}; their other sessions have ended.")
+    set_flash(
+        session,
+        login,
+        _("New password set for %(email)s; their other sessions have ended.") % {"email": user.email},
+    )
     return RedirectResponse("/admin/users", status_code=303)

@@ -17,6 +17,7 @@ from app.accounts.sessions import load_session, pop_flash
 from app.audit.recorder import Actor, act_as
 from app.config import get_settings
 from app.errors import ServiceError
+from app.i18n.active import gettext as _
 from app.web import cookies
 from app.web.csrf import CsrfRefused, check_session_token
 from app.web.deps import ConfirmIdentity, Forbidden, FormDep, SessionDep, SignInRequired
@@ -125,9 +126,9 @@ def _confirmed(request: Request, session: Session, login: UserSession, form: For
         password = secret(form, reauth.PASSWORD_FIELD, errors, limit=1000)
         code = text(form, reauth.CODE_FIELD, errors, limit=40)
         if not password:
-            errors.add(reauth.PASSWORD_FIELD, "Enter your password")
+            errors.add(reauth.PASSWORD_FIELD, _("Enter your password"))
         if not code and reauth.needs_code(login, get_settings()):
-            errors.add(reauth.CODE_FIELD, "Enter the 6-digit code your app shows now")
+            errors.add(reauth.CODE_FIELD, _("Enter the 6-digit code your app shows now"))
         if not errors:
             try:
                 reauth.confirm(

@@ -15,6 +15,8 @@ from app.accounts.sessions import set_flash
 from app.accounts.views import safe_next
 from app.config import get_settings
 from app.errors import ServiceError
+from app.i18n.active import gettext as _
+from app.i18n.active import ngettext
 from app.ids import UserId
 from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, text
@@ -71,7 +73,12 @@ def submit_code(request: Request, session: SessionDep, login: PendingPost, form:
         set_flash(
             session,
             login,
-            f"Signed in with a recovery code; it no longer works. {left} recovery codes are left.",
+            ngettext(
+                "Signed in with a recovery code; it no longer works. %(num)s recovery code is left.",
+                "Signed in with a recovery code; it no longer works. %(num)s recovery codes are left.",
+                left,
+            )
+            % {"num": left},
         )
     return RedirectResponse(next_path, status_code=303)
 
@@ -137,6 +144,7 @@ def reset_second_factor(session: SessionDep, login: ConfirmedAdminPost, user_id:
     set_flash(
         session,
         login,
-        f"The second factor of {user.email} was reset; they set it up again at their next sign-in.",
+        _("The second factor of %(email)s was reset; they set it up again at their next sign-in.")
+        % {"email": user.email},
     )
     return RedirectResponse("/admin/users", status_code=303)

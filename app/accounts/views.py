@@ -15,6 +15,8 @@ from app.accounts.sessions import end_session, load_session
 from app.audit.recorder import Actor, act_as, record_event
 from app.config import get_settings
 from app.db import begin_write
+from app.i18n.active import N_, ngettext
+from app.i18n.active import gettext as _
 from app.text import character_problem
 from app.web import cookies, csrf
 from app.web.deps import FormDep, SessionDep
@@ -25,17 +27,19 @@ router = APIRouter(include_in_schema=False)
 MAX_NEXT_LENGTH = 500
 
 REFUSALS = {
-    throttle.BAD_CREDENTIALS: (401, "Enter a correct email address and password"),
-    throttle.DISABLED: (403, "This account has been disabled. Ask an administrator to enable it"),
+    throttle.BAD_CREDENTIALS: (401, N_("Enter a correct email address and password")),
+    throttle.DISABLED: (403, N_("This account has been disabled. Ask an administrator to enable it")),
 }
 
 
 def locked_out_message(locked: throttle.LockedOut) -> str:
     """Why sign-in is refused for now, and for how long."""
-    wait = f"Wait {locked.wait_minutes} minute{'s' if locked.wait_minutes != 1 else ''}, then try again"
+    wait = ngettext(
+        "Wait %(num)s minute, then try again", "Wait %(num)s minutes, then try again", locked.wait_minutes
+    ) % {"num": locked.wait_minutes}
     if locked.scope == throttle.ADDRESS:
-        return f"There have been too many failed sign-ins from this network. {wait}"
-    return f"There have been too many failed sign-ins for this account. {wait}"
+        return _("There have been too many failed sign-ins from this network. %(wait)s") % {"wait": wait}
+    return _("There have been too many failed sign-ins for this account. %(wait)s") % {"wait": wait}
 
 
 def safe_next(path: str | None) -> str:
@@ -90,7 +94,7 @@ def login_form(
     token = cookies.read_cookie(request, cookies.SESSION)
     if token and load_session(session, token=token, settings=get_settings()) is not None:
         return RedirectResponse(safe_next(next_path), status_code=303)
-    notice = "You have signed out." if signed_out else ""
+    notice = _("You have signed out.") if signed_out else ""
     return _login_page(
         request,
         values={},
@@ -111,9 +115,9 @@ def login(request: Request, session: SessionDep, form: FormDep) -> Response:
     next_field = form.get("next")
     next_path = safe_next(next_field if isinstance(next_field, str) else None)
     if not email:
-        errors.add("email", "Enter your email address")
+        errors.add("email", _("Enter your email address"))
     if not password:
-        errors.add("password", "Enter your password")
+        errors.add("password", _("Enter your password"))
     if errors:
         return _login_page(
             request, values={"email": email}, errors=errors, status_code=422, next_path=next_path
@@ -125,7 +129,8 @@ def login(request: Request, session: SessionDep, form: FormDep) -> Response:
         if result.locked is not None:
             status, message = 429, locked_out_message(result.locked)
         else:
-            status, message = REFUSALS[result.outcome]
+            status, refusal = REFUSALS[result.outcome]
+            message = _(refusal)
         errors.add("email", message)
         return _login_page(
             request, values={"email": email}, errors=errors, status_code=status, next_path=next_path

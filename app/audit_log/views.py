@@ -23,6 +23,7 @@ from app.audit_log.service import (
     record_types_on_record,
 )
 from app.config import get_settings
+from app.i18n.active import gettext as _
 from app.ids import PageNumber
 from app.web.deps import SessionDep
 from app.web.formatting import day_bounds, local_today, long_date, to_local
@@ -88,17 +89,21 @@ def read_filters(sent: dict[str, str], errors: FormErrors) -> tuple[dict[str, st
     """The filters under the text rule and their own checks; a refused one is blank, its message added."""
     values = {name: query_text(sent[name], name, errors, limit=limit) for name, limit in LIMITS.items()}
     if values["actor_kind"] not in ("", *ACTOR_KINDS):
-        errors.add("actor_kind", "Choose a kind of actor from the list")
+        errors.add("actor_kind", _("Choose a kind of actor from the list"))
         values["actor_kind"] = ""
     if values["action"] and not ACTION.fullmatch(values["action"]):
-        errors.add("action", "Choose an action from the list")
+        errors.add("action", _("Choose an action from the list"))
         values["action"] = ""
     if values["record_type"] and not RECORD_TYPE.fullmatch(values["record_type"]):
-        errors.add("record_type", "Choose a kind of record from the list")
+        errors.add("record_type", _("Choose a kind of record from the list"))
         values["record_type"] = ""
     since_day, until_day = read_date(values["from"], "from", errors), read_date(values["to"], "to", errors)
     if since_day and until_day and until_day < since_day:
-        errors.add("to", "The 'to' date must be the same as or after the 'from' date")
+        errors.add(
+            "to",
+            _("The %(to)s date must be the same as or after the %(from)s date")
+            % {"to": "'to'", "from": "'from'"},
+        )
         until_day = None
     where = AuditFilter(
         actor=values["actor"],

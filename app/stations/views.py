@@ -26,6 +26,8 @@ from app.accounts.models import UserSession
 from app.accounts.sessions import set_flash
 from app.config import Settings, get_settings
 from app.errors import ServiceError
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.ids import StationId
 from app.stations.details import MAX_CAPACITY_KG, StationDetails
 from app.stations.models import Station
@@ -57,10 +59,19 @@ INPUT_FOR = {
     "capacity_kg": "capacity_kg",
     "division_kg": "division_kg",
 }
-REPEATED_FORM = (
+REPEATED_FORM = N_(
     "That form had already been sent, so nothing more was done. A station key is shown only once; "
     "if it was not copied, rotate the key."
 )
+# The missing parts of the calibration date, in the order of the inputs, as one sentence each.
+MISSING_DATE_PARTS = {
+    (True, False, False): N_("The date the calibration is valid until must include a day"),
+    (False, True, False): N_("The date the calibration is valid until must include a month"),
+    (False, False, True): N_("The date the calibration is valid until must include a year"),
+    (True, True, False): N_("The date the calibration is valid until must include a day and month"),
+    (True, False, True): N_("The date the calibration is valid until must include a day and year"),
+    (False, True, True): N_("The date the calibration is valid until must include a month and year"),
+}
 
 
 def utc_today() -> date:
@@ -110,31 +121,49 @@ def _valid_until(values: dict[str, str], errors: FormErrors) -> date | None:
     parts = [values[name] for name in DATE_PARTS]
     if not any(parts):
         return None
-    example = "like 31 3 2027"
+    example = {"example": "31 3 2027"}
     if not all(parts):
-        missing = [word for word, part in zip(("day", "month", "year"), parts, strict=True) if not part]
-        first = DATE_PARTS[[bool(p) for p in parts].index(False)]
-        errors.add(first, f"The date the calibration is valid until must include a {' and '.join(missing)}")
+        day, month, year = parts
+        missing = (not day, not month, not year)
+        first = DATE_PARTS[missing.index(True)]
+        errors.add(first, _(MISSING_DATE_PARTS[missing]))
         return None
     if not all(ascii_digits(p) for p in parts) or len(parts[2]) != 4:
-        errors.add("valid_until_day", f"Enter the date the calibration is valid until as numbers, {example}")
+        errors.add(
+            "valid_until_day",
+            _("Enter the date the calibration is valid until as numbers, like %(example)s") % example,
+        )
         return None
     try:
         return date(int(parts[2]), int(parts[1]), int(parts[0]))
     except ValueError:
-        errors.add("valid_until_day", f"The calibration's valid-until date must be a real date, {example}")
+        errors.add(
+            "valid_until_day",
+            _("The calibration's valid-until date must be a real date, like %(example)s") % example,
+        )
         return None
 
 
-def _weight(values: dict[str, str], name: str, words: str, errors: FormErrors) -> Decimal | None:
+def _weight(values: dict[str, str], name: str, errors: FormErrors) -> Decimal | None:
     if not values[name]:
         return None
     value = parse_decimal(values[name])
+    capacity = name == "capacity_kg"
     if value is None or not value.is_finite():
-        errors.add(name, f"Enter the {words} as a number of kilograms, like 3000, or leave it blank")
+        if capacity:
+            errors.add(name, _("Enter the capacity as a number of kilograms, like 3000, or leave it blank"))
+        else:
+            errors.add(
+                name, _("Enter the division (e) as a number of kilograms, like 3000, or leave it blank")
+            )
         return None
     if value <= 0:
-        errors.add(name, f"The {words} must be more than 0 kg")
+        errors.add(
+            name,
+            _("The capacity must be more than 0 kg")
+            if capacity
+            else _("The division (e) must be more than 0 kg"),
+        )
         return None
     return value
 
@@ -146,14 +175,18 @@ def read_station_form(form: FormData) -> StationForm:
     result = StationForm(values=values, errors=errors)
     result.name = " ".join(values["name"].split())
     if not result.name:
-        errors.add("name", "Enter the station's name, like Agbara weighbridge")
+        errors.add(
+            "name", _("Enter the station's name, like %(example)s") % {"example": "Agbara weighbridge"}
+        )
     valid_until = _valid_until(values, errors)
-    capacity = _weight(values, "capacity_kg", "capacity", errors)
-    division = _weight(values, "division_kg", "division (e)", errors)
+    capacity = _weight(values, "capacity_kg", errors)
+    division = _weight(values, "division_kg", errors)
     if capacity is not None and capacity > MAX_CAPACITY_KG:
-        errors.add("capacity_kg", f"The capacity must be at most {MAX_CAPACITY_KG} kg")
+        errors.add(
+            "capacity_kg", _("The capacity must be at most %(maximum)s kg") % {"maximum": MAX_CAPACITY_KG}
+        )
     if capacity is not None and division is not None and division > capacity:
-        errors.add("division_kg", "The division (e) must not be larger than the capacity")
+        errors.add("division_kg", _("The division (e) must not be larger than the capacity"))
     result.details = StationDetails(
         location=values["location"] or None,
         operator_contact=values["operator_contact"] or None,
@@ -182,7 +215,7 @@ def _repeated(session: Session, login: UserSession, token: str) -> Response | No
     done = submissions.previous_result(session, token)
     if done is None:
         return None
-    set_flash(session, login, REPEATED_FORM)
+    set_flash(session, login, _(REPEATED_FORM))
     return RedirectResponse(done, status_code=303)
 
 
@@ -279,9 +312,11 @@ def edit_station(
             _add_service_error(parsed.errors, error)
         except IntegrityError:  # another station took the name meanwhile
             session.rollback()
-            parsed.errors.add("name", f"A station named {parsed.name!r} already exists")
+            parsed.errors.add(
+                "name", _("A station named %(name)s already exists") % {"name": repr(parsed.name)}
+            )
         else:
-            set_flash(session, login, f"The details of {station.name} were saved.")
+            set_flash(session, login, _("The details of %(name)s were saved.") % {"name": station.name})
             return RedirectResponse(f"/admin/stations/{station.id}", status_code=303)
     return _station_page(request, station, values=parsed.values, errors=parsed.errors, status=422)
 
@@ -313,9 +348,11 @@ def rotate_station_key(
 def _set_active(session: Session, login: UserSession, station_id: int, active: bool) -> Response:
     station = set_station_active(session, station=get_station(session, station_id), active=active)
     if active:
-        message = f"{station.name} is enabled: its key works again."
+        message = _("%(name)s is enabled: its key works again.") % {"name": station.name}
     else:
-        message = f"{station.name} is disabled: its key is refused until the station is enabled."
+        message = _("%(name)s is disabled: its key is refused until the station is enabled.") % {
+            "name": station.name
+        }
     set_flash(session, login, message)
     return RedirectResponse(f"/admin/stations/{station.id}", status_code=303)
 

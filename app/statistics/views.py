@@ -11,6 +11,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from app.accounts.deps import CurrentLogin
+from app.i18n.active import gettext as _
 from app.ids import IdChoice, parse_id
 from app.stations.models import Station
 from app.statistics.by_model import layout_counts, model_counts
@@ -36,14 +37,18 @@ def read_filters(
     last = read_date(values["to"], "to", errors) or today
     first = read_date(values["from"], "from", errors) or last - timedelta(days=DEFAULT_DAYS - 1)
     if last < first:
-        errors.add("to", "The 'to' date must be the same as or after the 'from' date")
+        errors.add(
+            "to",
+            _("The %(to)s date must be the same as or after the %(from)s date")
+            % {"to": "'to'", "from": "'from'"},
+        )
         first, last = last - timedelta(days=DEFAULT_DAYS - 1), last
     elif (last - first).days + 1 > MAX_DAYS:
-        errors.add("from", f"Choose a period of at most {MAX_DAYS} days")
+        errors.add("from", _("Choose a period of at most %(days)s days") % {"days": MAX_DAYS})
         first = last - timedelta(days=MAX_DAYS - 1)
     station_id = parse_id(station)
     if station.strip() and station_id is None:
-        errors.add("station", "Choose a station from the list")
+        errors.add("station", _("Choose a station from the list"))
     return values, Period(first, last), station_id
 
 

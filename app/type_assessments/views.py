@@ -14,6 +14,8 @@ from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
 from app.config import get_settings
 from app.errors import ServiceError
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.ids import TypeAssessmentId
 from app.inspections.models import Inspection
 from app.stability.model import layout_of_rules
@@ -45,12 +47,16 @@ def read_model(raw: dict[str, str], errors: FormErrors) -> tuple[dict[str, str],
     if values["model_year"]:
         text = values["model_year"]
         if not (text.isascii() and text.isdigit() and 1950 <= int(text) <= 2100):
-            errors.add("model_year", "Enter the model year as a year from 1950 to 2100, or leave it blank")
+            errors.add("model_year", _("Enter the model year as a year from 1950 to 2100, or leave it blank"))
         else:
             year = int(text)
-    for name, what in (("make", "make"), ("model", "model")):
+    missing = {
+        "make": N_("Enter the make, as on the vehicles' registration"),
+        "model": N_("Enter the model, as on the vehicles' registration"),
+    }
+    for name, message in missing.items():
         if not values[name] and name not in errors.messages:
-            errors.add(name, f"Enter the {what}, as on the vehicles' registration")
+            errors.add(name, _(message))
     if errors:
         return values, None
     return values, TypeRequest(values["make"], values["model"], year)
@@ -136,7 +142,7 @@ def create(request: Request, session: SessionDep, login: PostLogin, form: FormDe
         if done is None:
             raise
         return RedirectResponse(done, status_code=303)
-    set_flash(session, login, "Type assessment recorded.")
+    set_flash(session, login, _("Type assessment recorded."))
     return RedirectResponse(f"/type-assessments/{record.id}", status_code=303)
 
 

@@ -92,6 +92,25 @@ _SENTENCES: tuple[tuple[re.Pattern[str], str], ...] = tuple(
             r"Use 2 to 16 letters and digits, like BDG 252 QH \(spaces and hyphens are ignored\)",
             N_("Use 2 to 16 letters and digits, like BDG 252 QH (spaces and hyphens are ignored)"),
         ),
+        # The accounts' refusals (app/accounts/service.py), beside the user forms' boxes.
+        (rf"Use at least {_figure('count')} characters", N_("Use at least %(count)s characters")),
+        (
+            r"Enter the person's name as certificates should print it",
+            N_("Enter the person's name as certificates should print it"),
+        ),
+        (
+            rf"Keep the name to {_figure('maximum')} characters \(it has {_figure('count')}\)",
+            N_("Keep the name to %(maximum)s characters (it has %(count)s)"),
+        ),
+        (
+            r"Use letters, spaces and punctuation only \(no control or invisible characters\)",
+            N_("Use letters, spaces and punctuation only (no control or invisible characters)"),
+        ),
+        (
+            rf"Use up to {_figure('maximum')} letters, digits, spaces, '\.', '/' or '-', like NSCDC/4471",
+            N_("Use up to %(maximum)s letters, digits, spaces, '.', '/' or '-', like NSCDC/4471"),
+        ),
+        (r"An account for (?P<email>\S+) already exists", N_("An account for %(email)s already exists")),
     )
 )
 # Words inside a sentence that are themselves translated (the things, the count of wheels).

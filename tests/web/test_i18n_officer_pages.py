@@ -11,6 +11,7 @@ from fastapi.testclient import TestClient
 
 from app.accounts.models import User
 from app.stations.models import Station
+from web.webtools import post_form
 
 LANGUAGES = ["ha", "yo", "ig", "pcm"]
 
@@ -105,3 +106,128 @@ def test_the_sign_in_and_code_pages_speak_the_chosen_language(
         "ig": "Adreesị email",
         "pcm": "wey your admin give you",
     }[language] in signed_out
+
+
+# Pages whose address names a record: the path from the fixtures' ids.
+RECORD_PAGES: dict[str, tuple[str, dict[str, str], list[str]]] = {
+    "new user": (
+        "/admin/users/new",
+        {
+            "ha": "Ƙara mai amfani",
+            "yo": "Fi olùlò kún un",
+            "ig": "Tinye onye ojiji",
+            "pcm": "Admin: e dey manage users too",
+        },
+        [
+            "Officer: records inspections",
+            "Administrator: also manages users",
+            "As it should be printed on certificates, like Amina Bello",
+            "Give it to the person in a safe way; they cannot see it here again.",
+        ],
+    ),
+    "name and badge": (
+        "/admin/users/{officer}/edit",
+        {"ha": "Suna da baji", "yo": "Orúkọ àti báàjì", "ig": "Aha na baajị", "pcm": "Name and badge"},
+        [
+            "Documents already issued keep the name they were issued with.",
+            "Letters, digits, spaces, '.', '/' or '-', like NSCDC/4471",
+            "Badge number (optional)",
+        ],
+    ),
+    "new password": (
+        "/admin/users/{officer}/password",
+        {
+            "ha": "Sabuwar kalmar sirri",
+            "yo": "Ọ̀rọ̀ aṣínà tuntun",
+            "ig": "Okwuntughe ọhụrụ",
+            "pcm": "Dem go sign di person out everywhere",
+        },
+        ["The person will be signed out everywhere and must sign in with the new password."],
+    ),
+    "station": (
+        "/admin/stations/{station}",
+        {"ha": "Canza maɓallin", "yo": "Pààrọ̀ kọ́kọ́rọ́ náà", "ig": "Gbanwee igodo ahụ", "pcm": "Change di key"},
+        [
+            "Active: its key is accepted",
+            "The old key stops working at once",
+            "The last day the calibration is valid",
+        ],
+    ),
+    "assess a model": (
+        "/type-assessments/new",
+        {
+            "ha": "Kimanta samfuri",
+            "yo": "Ìṣàyẹ̀wò àwòṣe",
+            "ig": "Ntụle ụdị",
+            "pcm": "Type assessment dey judge",
+        },
+        [
+            "A type assessment judges a make and model",
+            "Show the vehicles",
+            "Models on file",
+            "Blank: every year",
+        ],
+    ),
+}
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+@pytest.mark.parametrize("page", list(RECORD_PAGES))
+def test_an_officer_page_of_a_record_speaks_the_chosen_language(
+    admin_web: TestClient, station: Station, officer: User, page: str, language: str
+) -> None:
+    template, expected, english = RECORD_PAGES[page]
+    path = template.format(officer=officer.id, station=station.id)
+    assert all(sentence in visible(admin_web.get(path).text) for sentence in english)
+
+    admin_web.cookies.set("trikecert_lang", language)
+    response = admin_web.get(path)
+
+    assert response.status_code == 200
+    assert f'<html lang="{language}"' in response.text
+    text = visible(response.text)
+    assert expected[language] in text
+    assert [sentence for sentence in english if sentence in text] == []
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_the_users_list_names_the_roles_in_the_chosen_language(
+    admin_web: TestClient, officer: User, language: str
+) -> None:
+    admin_web.cookies.set("trikecert_lang", language)
+    text = visible(admin_web.get("/admin/users").text)
+    role = {"ha": "Jami'i", "yo": "Òṣìṣẹ́", "ig": "Onye ọrụ", "pcm": "Officer"}[language]
+    assert role in text
+    if language != "pcm":
+        assert "Officer" not in text.replace("Officer:", "")
+
+
+def test_a_form_error_and_a_flash_are_in_the_chosen_language(
+    admin_web: TestClient, station: Station, officer: User
+) -> None:
+    admin_web.cookies.set("trikecert_lang", "ha")
+    edit = f"/admin/stations/{station.id}"
+    refused = post_form(admin_web, edit, edit, {"name": "", "capacity_kg": "0"})
+    assert refused.status_code == 422
+    text = visible(refused.text)
+    assert "Shigar da sunan tashar, misali Agbara weighbridge" in text
+    assert "Iya nauyi dole ya fi 0 kg" in text
+    assert "Enter the station's name" not in text
+
+    admin_web.cookies.set("trikecert_lang", "yo")
+    saved = post_form(admin_web, edit, edit, {"location": "Ikeja"})
+    assert saved.status_code == 303
+    shown = visible(admin_web.get(saved.headers["location"]).text)
+    assert f"A ti fi àlàyé {station.name} pamọ́." in shown
+    assert "were saved" not in shown
+
+
+def test_an_account_refusal_is_translated_on_the_page_and_stays_english_in_english(
+    admin_web: TestClient, officer: User
+) -> None:
+    path = f"/admin/users/{officer.id}/password"
+    assert "Use at least 10 characters" in post_form(admin_web, path, path, {"password": "short"}).text
+    admin_web.cookies.set("trikecert_lang", "ig")
+    refused = post_form(admin_web, path, path, {"password": "short"})
+    assert refused.status_code == 422
+    assert "Jiri opekata mpe mkpụrụedemede 10" in visible(refused.text)
