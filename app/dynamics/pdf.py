@@ -10,6 +10,7 @@ from app.documents import fonts
 from app.documents.chart import Box
 from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
 from app.dynamics.facts import EstimateFacts
+from app.dynamics.wording import frozen, section_lead, section_title
 from app.i18n.active import gettext as _
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
@@ -24,19 +25,6 @@ def headings() -> tuple[str, ...]:
         _("Rollover threshold"),
         _("Tilt angle"),
         _("Critical speed"),
-    )
-
-
-def section_title() -> str:
-    """The section's title (the pages' words, app/dynamics/wording.py)."""
-    return _("Beyond the static test (estimates, not part of the verdict)")
-
-
-def section_lead() -> str:
-    """What the section's figures rest on (the pages' words, app/dynamics/wording.py)."""
-    return _(
-        "These figures rest on the inputs listed beside them, some of them assumed. They never change the "
-        "verdict above, which is the study's static rule."
     )
 
 
@@ -60,17 +48,16 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
     heading_h = max(
         pdf.measure_words(w - 2 * PADDING, say, SIZE, bold=True) for w, say in zip(WIDTHS, says, strict=True)
     )
-    # The missing inputs are worded by the pages' words (English until those are translated).
-    missing = f" {estimates.missing}" if estimates.missing else ""
 
+    # The estimates were frozen in English at issue: each language's words are read back from them.
     def lead() -> str:
-        return section_lead() + missing
+        return f"{section_lead()} {frozen(estimates.missing)}" if estimates.missing else section_lead()
 
     points = estimates.map_points
     map_h = MAP_ABOVE + MAP_H + MAP_BELOW if points else 0.0
-    listed = "; ".join(f"{label}: {value}" for label, value in estimates.inputs)
 
     def inputs() -> str:
+        listed = "; ".join(f"{frozen(label)}: {frozen(value)}" for label, value in estimates.inputs)
         return _("Inputs used: %(inputs)s.") % {"inputs": listed}
 
     inputs_w = CONTENT_W - (MAP_LEFT + MAP_W + 6 if points else 0)
