@@ -12,6 +12,7 @@ import re
 import shutil
 import subprocess
 import unicodedata
+from typing import Any
 
 import pytest
 import uharfbuzz as hb
@@ -33,8 +34,8 @@ def _grave_extents() -> hb.GlyphExtents:
 
 def _grave_codes(pdf: PdfReader) -> set[int]:
     """The codes the document draws the combining grave with (from its ToUnicode map)."""
-    font = pdf.pages[0]["/Resources"]["/Font"]["/F1"].get_object()
-    cmap = font["/ToUnicode"].get_object().get_data().decode()
+    resources: Any = pdf.pages[0]["/Resources"]
+    cmap = resources["/Font"]["/F1"]["/ToUnicode"].get_data().decode()
     return {
         int(code, 16) for code, char in re.findall(r"<([0-9A-F]{4})> <([0-9A-F]{4})>", cmap) if char == "0300"
     }
@@ -48,13 +49,16 @@ def test_a_grave_over_a_dotted_letter_has_ink_above_the_letter(text: str, dpi: i
     page = Page(continued="")
     page.add_page()
     page.box(20, 20, 150, text, 9)
-    reader = PdfReader(io.BytesIO(bytes(page.output())))
-    stream = reader.pages[0].get_contents().get_data()
+    document = bytes(page.output())
+    reader = PdfReader(io.BytesIO(document))
+    contents = reader.pages[0].get_contents()
+    assert contents is not None
+    stream = contents.get_data()
     height = float(reader.pages[0].mediabox.height)
     codes = _grave_codes(reader)
     extents = _grave_extents()
     png = subprocess.run(
-        ["pdftoppm", "-r", str(dpi), "-png", "-"], input=bytes(page.output()), capture_output=True, check=True
+        ["pdftoppm", "-r", str(dpi), "-png", "-"], input=document, capture_output=True, check=True
     ).stdout
     image = Image.open(io.BytesIO(png)).convert("L")
     scale = dpi / 72
