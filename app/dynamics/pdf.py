@@ -6,12 +6,15 @@ is only drawn, with the PDF library's own primitives and the document's embedded
 
 from __future__ import annotations
 
+import unicodedata
+
 from app.documents import fonts
 from app.documents.chart import Box
-from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
-from app.dynamics.facts import EstimateFacts
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, SECOND_RGB, Page, line_height, second_size
+from app.dynamics.facts import CaseEstimateFacts, EstimateFacts
 from app.dynamics.wording import frozen, section_lead, section_title
 from app.i18n.active import gettext as _
+from app.i18n.active import use_locale
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
 from app.wording import case_name
@@ -32,6 +35,7 @@ WIDTHS = (46.0, 34.0, 30.0, 24.0, 46.0)
 ALIGN = ("L", "R", "R", "R", "R")
 SIZE = 8.0
 PADDING = 1.2
+SECOND_ROW_H = line_height(second_size(SIZE))  # a bilingual row's line in its second language
 MAP_W, MAP_H = 92.0, 46.0  # the plotting area (mm)
 MAP_LEFT, MAP_ABOVE, MAP_BELOW = 9.0, 7.0, 9.0  # tick labels, the axis title and legend, the LSF axis
 
@@ -67,6 +71,7 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
         + heading_h
         + 1.2
         + row_h * len(estimates.cases)
+        + SECOND_ROW_H * sum(_second_cells(pdf, case) is not None for case in estimates.cases)
         + 3
         + max(map_h, pdf.measure_words(inputs_w, inputs, 7.5))
     )
@@ -85,6 +90,22 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
         pdf.set_xy(MARGIN, pdf.words(MARGIN, y, CONTENT_W, inputs, 7.5) + 3)
 
 
+def _cells(case: CaseEstimateFacts) -> tuple[str, ...]:
+    """One case's row as printed in English (the frozen words)."""
+    return (_name(case.label), case.cg_height, case.rollover_threshold, case.tilt_angle, case.critical_speed)
+
+
+def _second_cells(pdf: Page, case: CaseEstimateFacts) -> tuple[str, ...] | None:
+    """A bilingual paper's row again in its second language, where a word differs (e.g. 'Not known')."""
+    if pdf.second_language is None:
+        return None
+    english = _cells(case)
+    with use_locale(pdf.second_language):
+        # The case's name stays as in English here: the loading cases table above names it in both.
+        said = (english[0], *(unicodedata.normalize("NFC", frozen(cell)) for cell in english[1:]))
+    return None if said == english else said
+
+
 def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, row_h: float) -> float:
     x = MARGIN
     pdf.set_fill_color(225, 225, 225)
@@ -98,17 +119,29 @@ def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, ro
     pdf.style(SIZE)
     pdf.c_margin = PADDING
     for case in estimates.cases:
-        pdf.set_xy(MARGIN, y)
-        row = (
-            _name(case.label),
-            case.cg_height,
-            case.rollover_threshold,
-            case.tilt_angle,
-            case.critical_speed,
-        )
-        for width, align, value in zip(WIDTHS, ALIGN, row, strict=True):
-            pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
-        y += row_h
+        english, second = _cells(case), _second_cells(pdf, case)
+        if second is None:
+            pdf.set_xy(MARGIN, y)
+            for width, align, value in zip(WIDTHS, ALIGN, english, strict=True):
+                pdf.cell(
+                    width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP"
+                )
+            y += row_h
+            continue
+        height = row_h + SECOND_ROW_H
+        x = MARGIN
+        for i, (width, align) in enumerate(zip(WIDTHS, ALIGN, strict=True)):
+            pdf.rect(x, y, width, height, style="D")
+            pdf.set_xy(x, y)
+            pdf.cell(width, row_h, pdf.printable(english[i]), align=align)
+            if second[i] != english[i]:
+                colour = pdf.text_color
+                pdf.set_text_color(*SECOND_RGB)
+                pdf.box(x, y + row_h - 0.4, width, second[i], second_size(SIZE), align=align)
+                pdf.text_color = colour
+                pdf.style(SIZE)
+            x += width
+        y += height
     pdf.c_margin = 0
     return y
 
