@@ -585,19 +585,24 @@ def _chart(pdf: Page, document: CertificateDocument) -> None:
     beside = area[0] + area[2] + 4
     column = PAGE_W - MARGIN - beside
     y = pdf.words(beside, area[1] + 6, column, rules, 7.5)
-    if not refusal:
-        return
+    chart_bottom = area[1] + area[3]
+    # What follows starts below the chart and below the words beside it, which a translation can
+    # make the taller of the two.
+    below = max(chart_bottom, y)
+    if refusal:
 
-    def paragraph() -> str:
-        return _("What would make it comply: %(remedies)s") % {"remedies": document.facts.remedies_sentence}
+        def paragraph() -> str:
+            return _("What would make it comply: %(remedies)s") % {
+                "remedies": document.facts.remedies_sentence
+            }
 
-    if y + 2 + pdf.measure_words(column, paragraph, 7.5) <= area[1] + area[3]:
-        pdf.words(beside, y + 2, column, paragraph, 7.5)
-        return
-    pdf.set_xy(MARGIN, area[1] + area[3] + 2)
-    pdf.room(pdf.measure_words(CONTENT_W, paragraph, 8.5))
-    pdf.words(MARGIN, pdf.get_y(), CONTENT_W, paragraph, 8.5)
-    pdf.set_xy(MARGIN, area[1] + area[3] + 3)
+        if y + 2 + pdf.measure_words(column, paragraph, 7.5) <= chart_bottom:
+            pdf.words(beside, y + 2, column, paragraph, 7.5)
+        else:
+            pdf.set_xy(MARGIN, below + 2)
+            pdf.room(pdf.measure_words(CONTENT_W, paragraph, 8.5))
+            below = pdf.words(MARGIN, pdf.get_y(), CONTENT_W, paragraph, 8.5)
+    pdf.set_xy(MARGIN, below + 3)
 
 
 def draw_qr(pdf: Page, data: str, x: float, y: float, size: float) -> None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import io
 import math
+import unicodedata
 from dataclasses import dataclass
 from datetime import UTC, datetime
 
@@ -31,9 +32,10 @@ from app.certificates.pdf import HEADLINE_PAD
 from app.certificates.pdf import HEADLINE_SIZE as OPENING_SIZE
 from app.certificates.records import Status
 from app.documents import fonts
-from app.documents.layout import CONTENT_W, MARGIN, PAGE_H, PAGE_W, Page, line_height
+from app.documents.layout import CONTENT_W, FOOT, MARGIN, PAGE_H, PAGE_W, Page, line_height
+from app.i18n.active import N_, use_locale
 from app.i18n.active import gettext as _
-from app.i18n.active import use_locale
+from app.i18n.locales import ENGLISH
 from app.web.formatting import long_date
 from app.wording import document_kind, status_headline_on
 
@@ -52,6 +54,8 @@ CERTIFIED = "CERTIFIED:"  # how a certificate's opening block begins (wording.do
 STRIKE_AT = 0.45  # of the opening line's height: through the middle of its capitals
 STRIKE_W = 1.4  # mm
 ELLIPSIS = "\u2026"
+NOT_IN_FORCE = N_("Not in force: do not rely on this paper.")
+FOOT_BAND_SIZE = 7.0  # pt: a bilingual paper's band at the foot, below the page line, in its second language
 STAMP_EPOCH = datetime(2026, 1, 1, tzinfo=UTC)
 
 
@@ -64,37 +68,57 @@ class Stamp:
     headline: str
     detail: str
     second_word: str | None = None  # a bilingual paper's status word in its second language
+    second_line: str | None = None  # and the band's words in it (a band at the foot of the page)
 
     def etag(self, original_sha256: str) -> str:
         """An ETag for the stamped file, from the original's hash and the stamp's words."""
-        text = "\n".join((original_sha256, self.headline, self.detail))
+        said = (self.headline, self.detail, *([self.second_line] if self.second_line else []))
+        text = "\n".join((original_sha256, *said))
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def stamp_of(certificate: Certificate, status: Status, verify_address: str) -> Stamp | None:
     """The stamp for a document's status now, worded from the record; None while it is in force."""
+    with use_locale(ENGLISH):
+        headline = _headline(certificate, status)
+    if headline is None:
+        return None
+    detail = f"Not in force: do not rely on this paper. The record: {verify_address}/{certificate.number}"
+    second_word = second_line = None
+    if certificate.second_language is not None:
+        with use_locale(certificate.second_language):
+            translated = status_word(status)
+            said = unicodedata.normalize("NFC", f"{_(NOT_IN_FORCE)} {_headline(certificate, status)}")
+        second_word = None if translated == status.upper() else translated
+        second_line = None if said == f"{NOT_IN_FORCE} {headline}" else said
+    return Stamp(
+        status=status,
+        word=status.upper(),
+        headline=headline,
+        detail=detail,
+        second_word=second_word,
+        second_line=second_line,
+    )
+
+
+def _headline(certificate: Certificate, status: Status) -> str | None:
+    """The band's first line in the active language: the status, its date and what it is about."""
     kind = certificate.kind
     if status == "revoked" and certificate.revocation is not None:
         revocation = certificate.revocation
         since = long_date(revocation.revoked_at)
-        headline = f"{status_headline_on(kind, status, since)}: {' '.join(revocation.reason.split())}"
-    elif status == "superseded" and certificate.superseded_by is not None:
+        return f"{status_headline_on(kind, status, since)}: {' '.join(revocation.reason.split())}"
+    if status == "superseded" and certificate.superseded_by is not None:
         newer = certificate.superseded_by
         since = long_date(newer.issued_at)
-        headline = f"{status_headline_on(kind, status, since)} by {document_kind(newer.kind)} {newer.number}"
-    elif status == "expired":
-        headline = status_headline_on(kind, status, long_date(certificate.expires_at))
-    else:
-        return None
-    detail = f"Not in force: do not rely on this paper. The record: {verify_address}/{certificate.number}"
-    second_word = None
-    if certificate.second_language is not None:
-        with use_locale(certificate.second_language):
-            translated = status_word(status)
-        second_word = None if translated == status.upper() else translated
-    return Stamp(
-        status=status, word=status.upper(), headline=headline, detail=detail, second_word=second_word
-    )
+        return _("%(headline)s by %(kind)s %(number)s") % {
+            "headline": status_headline_on(kind, status, since),
+            "kind": document_kind(newer.kind),
+            "number": newer.number,
+        }
+    if status == "expired":
+        return status_headline_on(kind, status, long_date(certificate.expires_at))
+    return None
 
 
 def status_word(status: Status) -> str:
@@ -129,6 +153,8 @@ def _overlay(stamp: Stamp, struck: bool) -> bytes:
         pdf.set_line_width(FRAME_W)
         pdf.rect(FRAME, FRAME, PAGE_W - 2 * FRAME, PAGE_H - 2 * FRAME, style="D")
         _band(pdf, stamp)
+        if stamp.second_line is not None:
+            _foot_band(pdf, stamp.second_line)
         _diagonal(pdf, stamp.word, stamp.second_word)
         if first and struck:
             _strike(pdf)
@@ -170,6 +196,24 @@ def _band(pdf: Page, stamp: Stamp) -> None:
     for line in lines:
         y = pdf.box(MARGIN + BAND_PAD, y, width, line, BAND_SIZE, bold=True)
     pdf.box(MARGIN + BAND_PAD, y, width, stamp.detail, DETAIL_SIZE)
+    pdf.set_text_color(0, 0, 0)
+
+
+def _foot_band(pdf: Page, said: str) -> None:
+    """A bilingual paper's band words in its second language: one red line at the foot of the page,
+    between the page line and the frame (the top band's margin has room for the English only)."""
+    width = CONTENT_W - 2 * BAND_PAD
+    lines = pdf.lines(width, said, FOOT_BAND_SIZE, bold=True)
+    line = lines[0]
+    if len(lines) > 1:
+        while line and len(pdf.lines(width, line + ELLIPSIS, FOOT_BAND_SIZE, bold=True)) > 1:
+            line = line[:-1].rstrip()
+        line += ELLIPSIS
+    top = PAGE_H - FOOT + 0.2  # just below the page line (layout.page_lines)
+    pdf.set_fill_color(*STAMP_RGB)
+    pdf.rect(MARGIN, top, CONTENT_W, line_height(FOOT_BAND_SIZE) + 2 * BAND_PAD, style="F")
+    pdf.set_text_color(255, 255, 255)
+    pdf.box(MARGIN + BAND_PAD, top + BAND_PAD, width, line, FOOT_BAND_SIZE, bold=True)
     pdf.set_text_color(0, 0, 0)
 
 

@@ -8,6 +8,8 @@ from typing import Any
 from app.config import get_settings
 from app.dynamics.presentation import estimates
 from app.dynamics.protocols import EstimatedInspection
+from app.i18n.active import use_locale
+from app.i18n.locales import ENGLISH
 from app.web.chart import MapPoint, short_label
 
 
@@ -46,8 +48,9 @@ class EstimateFacts:
 
 
 def estimate_facts(inspection: EstimatedInspection) -> EstimateFacts | None:
-    """The inspection's estimates to freeze, or None when none of them is known."""
-    content = estimates(inspection)
+    """The inspection's estimates to freeze (in English, the binding text), or None when none is known."""
+    with use_locale(ENGLISH):
+        content = estimates(inspection)
     if not content.known:
         return None
     thresholds = {p.long_label: p.rollover_g for p in content.points}

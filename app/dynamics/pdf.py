@@ -6,11 +6,15 @@ is only drawn, with the PDF library's own primitives and the document's embedded
 
 from __future__ import annotations
 
+import unicodedata
+
 from app.documents import fonts
 from app.documents.chart import Box
-from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, Page, line_height
-from app.dynamics.facts import EstimateFacts
+from app.documents.layout import CONTENT_W, MARGIN, PAGE_W, SECOND_RGB, Page, line_height, second_size
+from app.dynamics.facts import CaseEstimateFacts, EstimateFacts
+from app.dynamics.wording import frozen, section_lead, section_title
 from app.i18n.active import gettext as _
+from app.i18n.active import use_locale
 from app.stability import case_label
 from app.web.chart import MapGeometry, map_geometry
 from app.wording import case_name
@@ -27,23 +31,11 @@ def headings() -> tuple[str, ...]:
     )
 
 
-def section_title() -> str:
-    """The section's title (the pages' words, app/dynamics/wording.py)."""
-    return _("Beyond the static test (estimates, not part of the verdict)")
-
-
-def section_lead() -> str:
-    """What the section's figures rest on (the pages' words, app/dynamics/wording.py)."""
-    return _(
-        "These figures rest on the inputs listed beside them, some of them assumed. They never change the "
-        "verdict above, which is the study's static rule."
-    )
-
-
 WIDTHS = (46.0, 34.0, 30.0, 24.0, 46.0)
 ALIGN = ("L", "R", "R", "R", "R")
 SIZE = 8.0
 PADDING = 1.2
+SECOND_ROW_H = line_height(second_size(SIZE))  # a bilingual row's line in its second language
 MAP_W, MAP_H = 92.0, 46.0  # the plotting area (mm)
 MAP_LEFT, MAP_ABOVE, MAP_BELOW = 9.0, 7.0, 9.0  # tick labels, the axis title and legend, the LSF axis
 
@@ -60,17 +52,16 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
     heading_h = max(
         pdf.measure_words(w - 2 * PADDING, say, SIZE, bold=True) for w, say in zip(WIDTHS, says, strict=True)
     )
-    # The missing inputs are worded by the pages' words (English until those are translated).
-    missing = f" {estimates.missing}" if estimates.missing else ""
 
+    # The estimates were frozen in English at issue: each language's words are read back from them.
     def lead() -> str:
-        return section_lead() + missing
+        return f"{section_lead()} {frozen(estimates.missing)}" if estimates.missing else section_lead()
 
     points = estimates.map_points
     map_h = MAP_ABOVE + MAP_H + MAP_BELOW if points else 0.0
-    listed = "; ".join(f"{label}: {value}" for label, value in estimates.inputs)
 
     def inputs() -> str:
+        listed = "; ".join(f"{frozen(label)}: {frozen(value)}" for label, value in estimates.inputs)
         return _("Inputs used: %(inputs)s.") % {"inputs": listed}
 
     inputs_w = CONTENT_W - (MAP_LEFT + MAP_W + 6 if points else 0)
@@ -80,6 +71,7 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
         + heading_h
         + 1.2
         + row_h * len(estimates.cases)
+        + SECOND_ROW_H * sum(_second_cells(pdf, case) is not None for case in estimates.cases)
         + 3
         + max(map_h, pdf.measure_words(inputs_w, inputs, 7.5))
     )
@@ -98,6 +90,22 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
         pdf.set_xy(MARGIN, pdf.words(MARGIN, y, CONTENT_W, inputs, 7.5) + 3)
 
 
+def _cells(case: CaseEstimateFacts) -> tuple[str, ...]:
+    """One case's row as printed in English (the frozen words)."""
+    return (_name(case.label), case.cg_height, case.rollover_threshold, case.tilt_angle, case.critical_speed)
+
+
+def _second_cells(pdf: Page, case: CaseEstimateFacts) -> tuple[str, ...] | None:
+    """A bilingual paper's row again in its second language, where a word differs (e.g. 'Not known')."""
+    if pdf.second_language is None:
+        return None
+    english = _cells(case)
+    with use_locale(pdf.second_language):
+        # The case's name stays as in English here: the loading cases table above names it in both.
+        said = (english[0], *(unicodedata.normalize("NFC", frozen(cell)) for cell in english[1:]))
+    return None if said == english else said
+
+
 def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, row_h: float) -> float:
     x = MARGIN
     pdf.set_fill_color(225, 225, 225)
@@ -111,17 +119,29 @@ def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, ro
     pdf.style(SIZE)
     pdf.c_margin = PADDING
     for case in estimates.cases:
-        pdf.set_xy(MARGIN, y)
-        row = (
-            _name(case.label),
-            case.cg_height,
-            case.rollover_threshold,
-            case.tilt_angle,
-            case.critical_speed,
-        )
-        for width, align, value in zip(WIDTHS, ALIGN, row, strict=True):
-            pdf.cell(width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP")
-        y += row_h
+        english, second = _cells(case), _second_cells(pdf, case)
+        if second is None:
+            pdf.set_xy(MARGIN, y)
+            for width, align, value in zip(WIDTHS, ALIGN, english, strict=True):
+                pdf.cell(
+                    width, row_h, pdf.printable(value), border=1, align=align, new_x="RIGHT", new_y="TOP"
+                )
+            y += row_h
+            continue
+        height = row_h + SECOND_ROW_H
+        x = MARGIN
+        for i, (width, align) in enumerate(zip(WIDTHS, ALIGN, strict=True)):
+            pdf.rect(x, y, width, height, style="D")
+            pdf.set_xy(x, y)
+            pdf.cell(width, row_h, pdf.printable(english[i]), align=align)
+            if second[i] != english[i]:
+                colour = pdf.text_color
+                pdf.set_text_color(*SECOND_RGB)
+                pdf.box(x, y + row_h - 0.4, width, second[i], second_size(SIZE), align=align)
+                pdf.text_color = colour
+                pdf.style(SIZE)
+            x += width
+        y += height
     pdf.c_margin = 0
     return y
 

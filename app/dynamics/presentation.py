@@ -11,17 +11,21 @@ from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics
 from app.dynamics.protocols import EstimatedInspection
 from app.dynamics.wording import (
-    SECTION_LEAD,
-    SECTION_TITLE,
-    UNKNOWN,
+    NONE_ON_FILE,
+    NOT_RECORDED,
+    REVISION,
     critical_speed_text,
     figure_text,
     missing_sentence,
+    not_known,
     readings_text,
+    section_lead,
+    section_title,
 )
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
-from app.web.formatting import NOT_RECORDED
 from app.wording import case_name
 
 
@@ -53,7 +57,8 @@ class Estimates:
     @property
     def known(self) -> bool:
         """Whether any figure at all is known (otherwise the section only says what is missing)."""
-        return any(row.rollover_threshold != UNKNOWN or row.understeer_margin != UNKNOWN for row in self.rows)
+        unknown = not_known()
+        return any(row.rollover_threshold != unknown or row.understeer_margin != unknown for row in self.rows)
 
 
 def estimates(inspection: EstimatedInspection) -> Estimates:
@@ -107,33 +112,39 @@ def inputs_used(
 
     def given(value: float | Decimal | None, places: int, unit: str = "") -> str:
         # An input left empty on the vehicle's record, worded as every page words a gap.
-        return NOT_RECORDED if value is None else figure_text(value, places, unit)
+        return gap if value is None else figure_text(value, places, unit)
 
-    heights = ", ".join(given(z, 2) for z in vehicle.seat_heights_m) or NOT_RECORDED
+    gap = _(NOT_RECORDED)
+    heights = ", ".join(given(z, 2) for z in vehicle.seat_heights_m) or gap
     rows = [
-        ("Vehicle figures", f"revision {revision.revision}" if revision else "None on file"),
-        ("Rear track", given(vehicle.track_m, 3, "m")),
-        *([("Front track", given(vehicle.front_track_m, 3, "m"))] if data.n_front > 1 else []),
-        ("Loaded rear wheel radius", given(vehicle.wheel_radius_m, 3, "m")),
-        ("Seated heights, driver first", heights if heights == NOT_RECORDED else f"{heights} m"),
         (
-            "Front tyre cornering stiffness",
+            N_("Vehicle figures"),
+            _(REVISION) % {"revision": revision.revision} if revision else _(NONE_ON_FILE),
+        ),
+        (N_("Rear track"), given(vehicle.track_m, 3, "m")),
+        *([(N_("Front track"), given(vehicle.front_track_m, 3, "m"))] if data.n_front > 1 else []),
+        (N_("Loaded rear wheel radius"), given(vehicle.wheel_radius_m, 3, "m")),
+        (N_("Seated heights, driver first"), heights if heights == gap else f"{heights} m"),
+        (
+            N_("Front tyre cornering stiffness"),
             given(vehicle.front_cornering_stiffness_n_per_rad, 0, "N/rad"),
         ),
         (
-            "Each rear tyre's cornering stiffness",
+            N_("Each rear tyre's cornering stiffness"),
             given(vehicle.rear_cornering_stiffness_n_per_rad, 0, "N/rad"),
         ),
     ]
     if lift is not None:
-        rows.append(("Front wheel raised by", figure_text(lift.lift_height_m, 3, "m")))
+        rows.append((N_("Front wheel raised by"), figure_text(lift.lift_height_m, 3, "m")))
         rows.append(
-            ("Front wheel reaction, raised", readings_text(stored.get("front_kg", []), lift.front_kg))
+            (N_("Front wheel reaction, raised"), readings_text(stored.get("front_kg", []), lift.front_kg))
         )
     if data.cg_height_m is not None:
-        rows.append(("Centre of gravity height (given)", figure_text(data.cg_height_m, 3, "m")))
-    rows.append(("Empty vehicle's centre of gravity height", figure_text(dynamics.empty_cg_height_m, 4, "m")))
-    return rows
+        rows.append((N_("Centre of gravity height (given)"), figure_text(data.cg_height_m, 3, "m")))
+    rows.append(
+        (N_("Empty vehicle's centre of gravity height"), figure_text(dynamics.empty_cg_height_m, 4, "m"))
+    )
+    return [(_(label), value) for label, value in rows]
 
 
 def map_svg(content: Estimates, *, chart_id: str = "stability-map") -> Markup | None:
@@ -149,6 +160,6 @@ def dynamics_context(inspection: EstimatedInspection) -> dict[str, object]:
     return {
         "estimates": content,
         "stability_map": map_svg(content),
-        "estimates_title": SECTION_TITLE,
-        "estimates_lead": SECTION_LEAD,
+        "estimates_title": section_title(),
+        "estimates_lead": section_lead(),
     }

@@ -6,53 +6,74 @@ import re
 from collections.abc import Sequence
 from decimal import Decimal
 
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.web.formatting import fixed
 
-SECTION_TITLE = "Beyond the static test (estimates, not part of the verdict)"
-SECTION_LEAD = (
+SECTION_TITLE = N_("Beyond the static test (estimates, not part of the verdict)")
+SECTION_LEAD = N_(
     "These figures rest on the inputs listed beside them, some of them assumed. They never change the "
     "verdict above, which is the study's static rule."
 )
-UNKNOWN = "Not known"
+UNKNOWN = N_("Not known")
+UNDERSTEERS = N_("None (understeers)")
+MISSING = N_("Not recorded, so the figures that need them are blank: %(inputs)s.")
+MEAN_OF = N_("%(reading)s (mean of %(readings)s)")
+DRIVER_SEAT = N_("the seated height on the driver’s seat")
+PASSENGER_SEAT = N_("the seated height on passenger seat %(seat)s")
 INPUT_WORDS = {
-    "cg_lift or cg_height_m": "the centre of gravity height (a weighing with the front wheel raised)",
-    "wheel_radius_m": "the loaded rear wheel radius",
-    "track_m": "the rear track",
-    "front_track_m": "the front track (two front wheels tip about it)",
-    "front_cornering_stiffness_n_per_rad": "the front tyre's cornering stiffness",
-    "rear_cornering_stiffness_n_per_rad": "the rear tyres' cornering stiffness",
-    "drag_area_m2": "the drag area",
-    "centre_of_pressure_height_m": "the centre of pressure height",
-    "cg_height_m": "the centre of gravity height",
-    "load_items heights": "the heights of the load items",
+    "cg_lift or cg_height_m": N_("the centre of gravity height (a weighing with the front wheel raised)"),
+    "wheel_radius_m": N_("the loaded rear wheel radius"),
+    "track_m": N_("the rear track"),
+    "front_track_m": N_("the front track (two front wheels tip about it)"),
+    "front_cornering_stiffness_n_per_rad": N_("the front tyre's cornering stiffness"),
+    "rear_cornering_stiffness_n_per_rad": N_("the rear tyres' cornering stiffness"),
+    "drag_area_m2": N_("the drag area"),
+    "centre_of_pressure_height_m": N_("the centre of pressure height"),
+    "cg_height_m": N_("the centre of gravity height"),
+    "load_items heights": N_("the heights of the load items"),
 }
+REVISION = N_("revision %(revision)s")
+NONE_ON_FILE = N_("None on file")
+NOT_RECORDED = N_("Not recorded")  # as every page words a gap (app/web/formatting.py)
 _SEAT = re.compile(r"seats\[(\d+)\]\.z_m")
 
 
+def section_title() -> str:
+    """The section's title in the current language."""
+    return _(SECTION_TITLE)
+
+
+def section_lead() -> str:
+    """What the section's figures rest on, in the current language."""
+    return _(SECTION_LEAD)
+
+
+def not_known() -> str:
+    """'Not known' in the current language (a figure whose inputs are missing)."""
+    return _(UNKNOWN)
+
+
 def input_words(name: str) -> str:
-    """One missing input in words: 'the rear track', 'the seated height on seat 2 (passenger 1)'."""
+    """One missing input in words: 'the rear track', 'the seated height on passenger seat 1'."""
     seat = _SEAT.fullmatch(name)
     if seat:
         index = int(seat.group(1))
-        return f"the seated height on {'the driver’s seat' if index == 0 else f'passenger seat {index}'}"
-    return INPUT_WORDS.get(name, name)
+        return _(DRIVER_SEAT) if index == 0 else _(PASSENGER_SEAT) % {"seat": index}
+    return _(INPUT_WORDS[name]) if name in INPUT_WORDS else name
 
 
 def missing_sentence(missing: Sequence[str]) -> str | None:
     """Which inputs are not recorded, so which figures are blank; None when nothing is missing."""
     if not missing:
         return None
-    return (
-        "Not recorded, so the figures that need them are blank: "
-        + "; ".join(input_words(m) for m in missing)
-        + "."
-    )
+    return _(MISSING) % {"inputs": "; ".join(input_words(m) for m in missing)}
 
 
 def figure_text(value: float | Decimal | None, places: int, unit: str = "") -> str:
     """A figure to `places` decimals with its unit, or 'Not known'."""
     if value is None:
-        return UNKNOWN
+        return not_known()
     text = fixed(value, places)
     return f"{text}{unit}" if unit == "°" else f"{text} {unit}".strip()
 
@@ -60,13 +81,44 @@ def figure_text(value: float | Decimal | None, places: int, unit: str = "") -> s
 def critical_speed_text(critical_kmh: float | None, margin: float | None) -> str:
     """'113.8 km/h', 'None (understeers)': stable at every speed, or 'Not known'."""
     if margin is None:
-        return UNKNOWN
+        return not_known()
     if critical_kmh is None:
-        return "None (understeers)"
+        return _(UNDERSTEERS)
     return figure_text(critical_kmh, 1, "km/h")
 
 
 def readings_text(values: Sequence[str], mean_kg: float, places: int = 1) -> str:
     """The raised front wheel's reading(s): '94.8 kg', or '94.8 kg (mean of 94.8, 94.7, 94.9)'."""
     shown = figure_text(mean_kg, places, "kg")
-    return shown if len(values) < 2 else f"{shown} (mean of {', '.join(values)})"
+    return shown if len(values) < 2 else _(MEAN_OF) % {"reading": shown, "readings": ", ".join(values)}
+
+
+def _english_patterns() -> list[tuple[re.Pattern[str], str]]:
+    """The English messages with placeholders as patterns that read a frozen English text back."""
+    patterns = []
+    for message in (MISSING, MEAN_OF, PASSENGER_SEAT, REVISION):
+        pattern = re.escape(message)
+        pattern = re.sub(r"%\\\(([a-z]+)\\\)s", r"(?P<\1>.+?)", pattern)
+        patterns.append((re.compile(pattern + "$"), message))
+    return patterns
+
+
+def frozen(text: str) -> str:
+    """A paper's frozen English text (a label, a value, the missing sentence) in the current language.
+
+    A certificate freezes its estimates in English at issue; a bilingual paper translates them back
+    from the English message they were made of. Anything else (a figure, a unit) prints as it is.
+    """
+    for pattern, message in _english_patterns():
+        match = pattern.match(text)
+        if match:
+            parts = {name: frozen_parts(name, value) for name, value in match.groupdict().items()}
+            return _(message) % parts
+    return _(text) if text else text
+
+
+def frozen_parts(name: str, value: str) -> str:
+    """One placeholder's frozen English value in the current language (the missing inputs one by one)."""
+    if name == "inputs":
+        return "; ".join(frozen(part) for part in value.split("; "))
+    return value

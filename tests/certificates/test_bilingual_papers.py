@@ -556,3 +556,27 @@ def test_screenshots_of_the_bilingual_papers(
             input=rendered.pdf,
             check=True,
         )
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_a_revoked_bilingual_papers_band_warns_in_its_second_language_on_every_page(
+    api: TestClient, session: Session, layouts: list[Any], language: str
+) -> None:
+    _rendered, document = paper(api, layouts, "refusal", language)
+    revoke_certificate(session, number=document.number, actor=Actor.of_cli(), reason="Wrong wheel readings")
+    stamped = api.get(f"/api/v1/certificates/{document.number}/pdf")
+    assert stamped.status_code == 200
+    english, warning = both(lambda: _("Not in force: do not rely on this paper."), language)
+    pages = nfc(pdftotext(pdf=stamped.content)).split("\f")[:-1]
+    assert len(pages) >= 1
+    for page in pages:
+        assert squeezed(english) in squeezed(page)  # the top band's English detail
+        assert squeezed(warning) in squeezed(page)  # and the foot band's translation
+    # The foot band stands below the page line and inside the stamp's frame (4 mm from the edge).
+    words, sizes = geometry.words_of(stamped.content)
+    for number in range(1, len(pages) + 1):
+        _width, height = sizes[number - 1]
+        foot = [w for w in words if w.page == number and w.y0 >= height - 10 * geometry.MM]
+        assert foot, f"no band at the foot of page {number}"
+        for word in foot:
+            assert word.y1 <= height - 4 * geometry.MM, word

@@ -15,8 +15,8 @@ from web.webtools import post_form
 
 LANGUAGES = ["ha", "yo", "ig", "pcm"]
 
-# Per page: a characteristic translation per language (the glossary's, docs/translations.md), and English sentences the page shows in
-# English that must not be left over in any other language.
+# Per page: a characteristic translation per language (the glossary's, docs/translations.md), and
+# English sentences the page shows in English that must not be left over in any other language.
 PAGES: dict[str, tuple[dict[str, str], list[str]]] = {
     "/": (
         {"ha": "Binciken yau", "yo": "Àwọn àyẹ̀wò òní", "ig": "Nlele taa", "pcm": "Today inspections"},
