@@ -154,15 +154,16 @@ def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked"
 def status_meaning(status: str) -> str:
     """A public status (certified, refused, revoked, superseded, expired) in a few words: what a reader
     may do with the paper (the command line, the offline check)."""
-    return _(
-        {
-            "certified": N_("a certificate in force: the vehicle is certified as below"),
-            "refused": N_("a refusal: the vehicle is NOT certified"),
-            "revoked": N_("REVOKED: it certifies nothing"),
-            "superseded": N_("SUPERSEDED: only the newer document counts"),
-            "expired": N_("EXPIRED: the vehicle must be weighed again"),
-        }[status]
-    )
+    return _(_MEANINGS[status])
+
+
+_MEANINGS = {
+    "certified": N_("a certificate in force: the vehicle is certified as below"),
+    "refused": N_("a refusal: the vehicle is NOT certified"),
+    "revoked": N_("REVOKED: it certifies nothing"),
+    "superseded": N_("SUPERSEDED: only the newer document counts"),
+    "expired": N_("EXPIRED: the vehicle must be weighed again"),
+}
 
 
 # Marked here, translated where they are said (gettext at call time).
@@ -191,9 +192,12 @@ _QR_REASONS = {
 }
 
 
+_UNCHECKED = N_("its signature does not check out")
+
+
 def qr_reason(reason: str) -> str:
     """Why a QR code is not genuine, in words without key ids or codes."""
-    return _(_QR_REASONS.get(reason, N_("its signature does not check out")))
+    return _(_QR_REASONS.get(reason, _UNCHECKED))
 
 
 def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
