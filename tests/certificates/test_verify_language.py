@@ -23,6 +23,7 @@ from app.i18n.active import current_locale, use_locale
 from app.trust.claims import Claims
 from app.trust.cwt import verify_cwt
 from app.trust.keys import published_keys
+from app.trust.signing import sign_payload
 from app.wording import occupancy_sentence, verdict_sentence
 
 JSON = {"Accept": "application/json"}
@@ -59,7 +60,7 @@ def test_a_paper_issued_from_a_hausa_page_signs_the_same_claims_as_in_english(
     register(api)
     inspection_id = weigh(api)
     signed: list[tuple[str, Claims]] = []
-    real_sign = service.sign_payload
+    real_sign = sign_payload
 
     def spy(claims: Claims, **kwargs: Any) -> str:
         signed.append((current_locale(), claims))
