@@ -6,6 +6,7 @@ use_locale), and one Hausa phrase per state is written out so that the test cann
 from __future__ import annotations
 
 import html
+import json
 import re
 from datetime import timedelta
 from typing import Any
@@ -191,3 +192,25 @@ def test_the_occupancy_has_its_plural_forms_in_each_language(language: str) -> N
     with use_locale("en"):
         assert occupancy_sentence(True, 2) == "Certified for the driver and up to one passenger"
         assert occupancy_sentence(True, 3) == "Certified for the driver and up to 2 passengers"
+
+
+def test_the_check_page_embeds_its_words_in_the_readers_language(client: TestClient) -> None:
+    """The offline checker's words (the JavaScript retypes none) come with the page, in its language."""
+    versions = set()
+    hausa: dict[str, Any] = {}
+    for language in ("en", *LANGUAGES):
+        response = client.get("/check/", headers={"Accept-Language": language})
+        assert response.status_code == 200
+        assert "Accept-Language" in response.headers["vary"]
+        found = re.search(r'<script type="application/json" id="check-words">(.*?)</script>', response.text)
+        assert found
+        words = json.loads(found.group(1))
+        hausa = words if language == "ha" else hausa
+        with use_locale(language):
+            assert words["codes"]["stale"]["headline"] == _("CANNOT CONFIRM")
+            assert words["codes"]["revoked"]["headline"] == status_headline("compliant", "revoked")
+            assert words["occupancy"]["certificate"][3] == occupancy_sentence(True, 3)
+            assert words["titles"]["refusal"] == _("Lateral Stability Refusal")
+        versions.add(re.search(r'data-version="([0-9a-f]+)"', response.text).group(1))  # type: ignore[union-attr]
+    assert len(versions) == 1  # one service worker version for every language
+    assert hausa["codes"]["not_genuine"]["headline"] == "BA NA GASKE BA"
