@@ -9,6 +9,8 @@ from collections.abc import Sequence
 from decimal import Decimal
 from typing import Literal
 
+from app.i18n.active import N_, current_locale, ngettext
+from app.i18n.active import gettext as _
 from app.stability.layout import LAYOUTS, WHEEL_WORDS
 from app.stability.model import case_label, layout_of_rules
 from app.stability.remedies import Advice
@@ -18,42 +20,54 @@ DocumentStatus = Literal["issued", "revoked", "superseded", "expired"]
 
 
 def number_word(count: int) -> str:
-    """'one' for 1, numerals otherwise: one, 2, 3 ... (GOV.UK style)."""
-    return "one" if count == 1 else str(count)
+    """'one' for 1, numerals otherwise: one, 2, 3 ... (GOV.UK style); digits in every other language."""
+    return "one" if count == 1 and current_locale() == "en" else str(count)
 
 
 def passengers(count: int) -> str:
     """'one passenger', '2 passengers'."""
-    return f"{number_word(count)} passenger{'' if count == 1 else 's'}"
+    return ngettext("one passenger", "%(count)s passengers", count) % {"count": count}
+
+
+def _driver_and(count: int) -> str:
+    """'the driver and one passenger', 'the driver and 2 passengers'."""
+    return ngettext("the driver and one passenger", "the driver and %(count)s passengers", count) % {
+        "count": count
+    }
 
 
 def occupancy(occupants: int) -> str:
     """One loading case in words: 'the driver alone', 'the driver and 2 passengers'."""
     if occupants <= 0:
-        return "nobody aboard"
+        return _("nobody aboard")
     if occupants == 1:
-        return "the driver alone"
-    return f"the driver and {passengers(occupants - 1)}"
+        return _("the driver alone")
+    return _driver_and(occupants - 1)
 
 
 def occupancy_limit(max_compliant_occupants: int) -> str:
     """The most a vehicle may carry: 'the driver alone', 'the driver and up to 2 passengers'."""
     if max_compliant_occupants <= 1:
-        return "the driver alone"
-    return f"the driver and up to {passengers(max_compliant_occupants - 1)}"
+        return _("the driver alone")
+    count = max_compliant_occupants - 1
+    return ngettext(
+        "the driver and up to one passenger", "the driver and up to %(count)s passengers", count
+    ) % {"count": count}
 
 
 def occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
     """The occupancy sentence: 'Certified for the driver and up to 2 passengers', or what a refusal allows."""
     if compliant and max_compliant_occupants >= 1:
         if max_compliant_occupants == 1:
-            return "Certified for the driver alone: no passengers"
-        return f"Certified for {occupancy_limit(max_compliant_occupants)}"
+            return _("Certified for the driver alone: no passengers")
+        return _("Certified for %(occupancy)s") % {"occupancy": occupancy_limit(max_compliant_occupants)}
     if max_compliant_occupants <= 0:
-        return "This vehicle must not be used: it is unstable even with the driver alone"
+        return _("This vehicle must not be used: it is unstable even with the driver alone")
     if max_compliant_occupants == 1:
-        return "This vehicle must not carry passengers"
-    return f"This vehicle may carry {occupancy_limit(max_compliant_occupants)}, no more"
+        return _("This vehicle must not carry passengers")
+    return _("This vehicle may carry %(occupancy)s, no more") % {
+        "occupancy": occupancy_limit(max_compliant_occupants)
+    }
 
 
 def verdict_mark(compliant: bool) -> Literal["C", "NC"]:
@@ -66,21 +80,31 @@ def verdict_sentence(cases: Sequence[tuple[int, bool]], max_compliant_occupants:
     occupied = [(n, ok) for n, ok in cases if n > 0]
     if all(ok for _n, ok in cases):
         most = max((n for n, _ok in occupied), default=0)
-        return f"Compliant. Laterally stable in every loading case, up to {occupancy(most)}."
+        return _("Compliant. Laterally stable in every loading case, up to %(occupancy)s.") % {
+            "occupancy": occupancy(most)
+        }
     best = max_compliant_occupants
     failing = [n for n, ok in occupied if not ok]
     if best == 0:
-        return "Not compliant. Laterally unstable even with the driver alone."
-    stable = f"Laterally stable with {occupancy_limit(best)}"
+        return _("Not compliant. Laterally unstable even with the driver alone.")
+    stable = occupancy_limit(best)
     if not failing:
-        return f"Not compliant. {stable}; unstable when empty."
-    unstable = f"the driver and {passengers(min(failing) - 1)}"
+        return _("Not compliant. Laterally stable with %(stable)s; unstable when empty.") % {"stable": stable}
+    fewest = min(failing) - 1
+    unstable = _driver_and(fewest)
     if failing == [n for n, _ok in occupied if n >= min(failing)]:
         if max(failing) > min(failing):
-            unstable = f"the driver and {number_word(min(failing) - 1)} or more passengers"
+            unstable = ngettext(
+                "the driver and one or more passengers", "the driver and %(count)s or more passengers", fewest
+            ) % {"count": fewest}
     else:
-        unstable = " or ".join(occupancy(n) for n in failing)
-    return f"Not compliant. {stable}; unstable with {unstable}."
+        unstable = occupancy(failing[0])
+        for n in failing[1:]:
+            unstable = _("%(these)s or %(those)s") % {"these": unstable, "those": occupancy(n)}
+    return _("Not compliant. Laterally stable with %(stable)s; unstable with %(unstable)s.") % {
+        "stable": stable,
+        "unstable": unstable,
+    }
 
 
 def document_kind(kind: str) -> str:
@@ -90,25 +114,34 @@ def document_kind(kind: str) -> str:
 
 def document_title(kind: str) -> str:
     """The document's title: 'Lateral Stability Certificate' or 'Lateral Stability Refusal'."""
-    return "Lateral Stability Certificate" if kind == "compliant" else "Lateral Stability Refusal"
+    return _("Lateral Stability Certificate") if kind == "compliant" else _("Lateral Stability Refusal")
 
 
 def issued_message(kind: str, number: str, created: bool) -> str:
     """The message after asking for a document: 'Refusal TRK-... issued.' or 'Already issued: ...'."""
-    name = document_kind(kind).capitalize()
-    return f"{name} {number} issued." if created else f"Already issued: {document_kind(kind)} {number}."
+    if kind == "compliant":
+        message = (
+            _("Certificate %(number)s issued.") if created else _("Already issued: certificate %(number)s.")
+        )
+    else:
+        message = _("Refusal %(number)s issued.") if created else _("Already issued: refusal %(number)s.")
+    return message % {"number": number}
 
 
 def revoked_message(kind: str, number: str) -> str:
     """The message after revoking: 'Certificate TRK-... revoked.'."""
-    return f"{document_kind(kind).capitalize()} {number} revoked."
+    message = (
+        _("Certificate %(number)s revoked.") if kind == "compliant" else _("Refusal %(number)s revoked.")
+    )
+    return message % {"number": number}
 
 
 def status_headline(kind: str, status: str) -> str:
     """The verify banner's headline: VALID CERTIFICATE, NOT CERTIFIED: refusal, REVOKED, EXPIRED..."""
     if status == "issued":
-        return "VALID CERTIFICATE" if kind == "compliant" else "NOT CERTIFIED: refusal"
-    return status.upper()
+        return _("VALID CERTIFICATE") if kind == "compliant" else _("NOT CERTIFIED: refusal")
+    words = {"revoked": N_("REVOKED"), "superseded": N_("SUPERSEDED"), "expired": N_("EXPIRED")}
+    return _(words[status]) if status in words else status.upper()
 
 
 def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked", "lapsed"]:
@@ -121,52 +154,67 @@ def status_tone(kind: str, status: str) -> Literal["valid", "refused", "revoked"
 def status_meaning(status: str) -> str:
     """A public status (certified, refused, revoked, superseded, expired) in a few words: what a reader
     may do with the paper (the command line, the offline check)."""
-    return {
-        "certified": "a certificate in force: the vehicle is certified as below",
-        "refused": "a refusal: the vehicle is NOT certified",
-        "revoked": "REVOKED: it certifies nothing",
-        "superseded": "SUPERSEDED: only the newer document counts",
-        "expired": "EXPIRED: the vehicle must be weighed again",
-    }[status]
+    return _(_MEANINGS[status])
 
 
-QR_GENUINE = "The QR code is genuine"
-QR_NOT_GENUINE = "The QR code is NOT genuine: do not rely on this paper"
+_MEANINGS = {
+    "certified": N_("a certificate in force: the vehicle is certified as below"),
+    "refused": N_("a refusal: the vehicle is NOT certified"),
+    "revoked": N_("REVOKED: it certifies nothing"),
+    "superseded": N_("SUPERSEDED: only the newer document counts"),
+    "expired": N_("EXPIRED: the vehicle must be weighed again"),
+}
+
+
+# Marked here, translated where they are said (gettext at call time).
+QR_GENUINE = N_("The QR code is genuine")
+QR_NOT_GENUINE = N_("The QR code is NOT genuine: do not rely on this paper")
 
 
 def status_headline_on(kind: str, status: str, since: str | None) -> str:
     """The headline with its date for a lapsed document: 'REVOKED on 3 December 2026'."""
     headline = status_headline(kind, status)
-    return f"{headline} on {since}" if since and status != "issued" else headline
+    if since and status != "issued":
+        return _("%(headline)s on %(date)s") % {"headline": headline, "date": since}
+    return headline
 
 
 _QR_REASONS = {
-    "bad_signature": "its content was changed, or it was not signed by the issuing authority",
-    "unknown_key": "it was not signed with any key of the issuing authority",
-    "withdrawn_key": "it was signed with a key the issuing authority withdrew because it may have been "
-    "misused: ask the authority for a new paper",
-    "unsupported_algorithm": "it was not signed the way the issuing authority signs",
-    "malformed": "it is damaged or is not a code the issuing authority makes",
-    "tampered": "it was signed for a different document from the one on record under this number",
+    "bad_signature": N_("its content was changed, or it was not signed by the issuing authority"),
+    "unknown_key": N_("it was not signed with any key of the issuing authority"),
+    "withdrawn_key": N_(
+        "it was signed with a key the issuing authority withdrew because it may have been "
+        "misused: ask the authority for a new paper"
+    ),
+    "unsupported_algorithm": N_("it was not signed the way the issuing authority signs"),
+    "malformed": N_("it is damaged or is not a code the issuing authority makes"),
+    "tampered": N_("it was signed for a different document from the one on record under this number"),
 }
+
+
+_UNCHECKED = N_("its signature does not check out")
 
 
 def qr_reason(reason: str) -> str:
     """Why a QR code is not genuine, in words without key ids or codes."""
-    return _QR_REASONS.get(reason, "its signature does not check out")
+    return _(_QR_REASONS.get(reason, _UNCHECKED))
 
 
 def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> str:
     """What a type assessment allows every vehicle of the model, by its confident verdict."""
     if compliant and max_compliant_occupants >= 1:
         if max_compliant_occupants == 1:
-            return "The model is certified for the driver alone: no passengers"
-        return f"The model is certified for {occupancy_limit(max_compliant_occupants)}"
+            return _("The model is certified for the driver alone: no passengers")
+        return _("The model is certified for %(occupancy)s") % {
+            "occupancy": occupancy_limit(max_compliant_occupants)
+        }
     if max_compliant_occupants <= 0:
-        return "The model is not shown stable even with the driver alone"
+        return _("The model is not shown stable even with the driver alone")
     if max_compliant_occupants == 1:
-        return "Vehicles of this model must not carry passengers"
-    return f"Vehicles of this model may carry {occupancy_limit(max_compliant_occupants)}, no more"
+        return _("Vehicles of this model must not carry passengers")
+    return _("Vehicles of this model may carry %(occupancy)s, no more") % {
+        "occupancy": occupancy_limit(max_compliant_occupants)
+    }
 
 
 def _position(x_m: Decimal) -> str:
@@ -233,10 +281,10 @@ def remedy_applied(advice: Advice, remedy: str) -> str | None:
 def document_headline(kind: str, max_compliant_occupants: int) -> str:
     """What a paper says first: 'CERTIFIED: the driver and up to 2 passengers' or 'NOT CERTIFIED: REFUSAL'."""
     if kind != "compliant":
-        return "NOT CERTIFIED: REFUSAL"
+        return _("NOT CERTIFIED: REFUSAL")
     if max_compliant_occupants <= 1:
-        return "CERTIFIED: the driver alone, no passengers"
-    return f"CERTIFIED: {occupancy_limit(max_compliant_occupants)}"
+        return _("CERTIFIED: the driver alone, no passengers")
+    return _("CERTIFIED: %(occupancy)s") % {"occupancy": occupancy_limit(max_compliant_occupants)}
 
 
 def case_name(occupants: int) -> str:

@@ -20,6 +20,7 @@ from app.certificates.service import REASON_LENGTH, issue_certificate, revoke_ce
 from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
+from app.i18n.active import N_
 from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.web.deps import FormDep, SessionDep
@@ -59,9 +60,9 @@ def people_of(session: Session, certificate: Certificate, facts: Facts) -> list[
         label=certificate.issued_by,
     )
     return [
-        ("Weighing recorded by", recorded_by(session, inspection)),
-        ("Issued by", issuer),
-        ("Scale calibration", facts.calibration),
+        (N_("Weighing recorded by"), recorded_by(session, inspection)),
+        (N_("Issued by"), issuer),
+        (N_("Scale calibration"), facts.calibration),
     ]
 
 

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from typing import Literal
 
-from app.wording import QR_GENUINE, QR_NOT_GENUINE, document_kind
+from app.i18n.active import gettext as _
+from app.wording import QR_NOT_GENUINE
 from app.wording import status_meaning as status_meaning  # the offline check (app/trust) says it too
 
 PublicStatus = Literal["certified", "refused", "revoked", "superseded", "expired"]
@@ -52,39 +53,55 @@ def qr_tone(status: PublicStatus, genuine: bool) -> QrTone:
 def qr_title(kind: str, status: PublicStatus, genuine: bool) -> str:
     """The QR check box's title: genuine, genuine but not in force (and why), or NOT genuine."""
     if not genuine:
-        return QR_NOT_GENUINE
+        return _(QR_NOT_GENUINE)
     if status == "certified":
-        return QR_GENUINE
+        return _("The QR code is genuine")
     if status == "refused":
-        return f"{QR_GENUINE}, but this paper is a REFUSAL"
-    word = document_kind(kind)
+        return _("The QR code is genuine, but this paper is a REFUSAL")
+    certificate = kind == "compliant"
     if status == "expired":
-        return f"{QR_GENUINE}, but this {word} has EXPIRED"
-    return f"{QR_GENUINE}, but this {word} was {status.upper()}"
+        if certificate:
+            return _("The QR code is genuine, but this certificate has EXPIRED")
+        return _("The QR code is genuine, but this refusal has EXPIRED")
+    if status == "revoked":
+        if certificate:
+            return _("The QR code is genuine, but this certificate was REVOKED")
+        return _("The QR code is genuine, but this refusal was REVOKED")
+    if certificate:
+        return _("The QR code is genuine, but this certificate was SUPERSEDED")
+    return _("The QR code is genuine, but this refusal was SUPERSEDED")
 
 
 def qr_explanation(status: PublicStatus) -> str:
     """What a genuine QR code vouches for, said so that it cannot be read as more than it is."""
-    signed = "It was signed by the issuing authority and matches this record"
     if status == "certified":
-        return f"{signed}. The banner above says what the paper means."
+        return _(
+            "It was signed by the issuing authority and matches this record. "
+            "The banner above says what the paper means."
+        )
     if status == "refused":
-        return f"{signed}, but a refusal certifies nothing."
-    return f"{signed}, but the paper no longer counts."
+        return _(
+            "It was signed by the issuing authority and matches this record, but a refusal certifies nothing."
+        )
+    return _(
+        "It was signed by the issuing authority and matches this record, but the paper no longer counts."
+    )
 
 
 def not_on_record(number: str) -> str:
     """Why a well-formed number finds nothing, as the verify page, its form and the API say it."""
-    return f"no certificate or refusal {number} is on record: a paper that shows this number is not valid"
+    return _(
+        "no certificate or refusal %(number)s is on record: a paper that shows this number is not valid"
+    ) % {"number": number}
 
 
 def number_headline(rule: NumberRule) -> str:
     """The red banner's headline for a number that finds no document."""
     if rule == "exists":
-        return "NOT VALID: no certificate has this number"
+        return _("NOT VALID: no certificate has this number")
     if rule == "check_letter":
-        return "NOT VALID: the number is mistyped"
-    return "NOT VALID: this is not a certificate number"
+        return _("NOT VALID: the number is mistyped")
+    return _("NOT VALID: this is not a certificate number")
 
 
 def sentence(message: str) -> str:
@@ -95,14 +112,22 @@ def sentence(message: str) -> str:
 
 def until_sentence(kind: str, until: str) -> str:
     """How long a standing document counts: 'Valid until 1 December 2027.' (a refusal: 'stands until')."""
-    return f"{'Valid' if kind == 'compliant' else 'This refusal stands'} until {until}."
+    if kind == "compliant":
+        return _("Valid until %(date)s.") % {"date": until}
+    return _("This refusal stands until %(date)s.") % {"date": until}
 
 
 def lapsed_sentence(kind: str, status: str) -> str:
     """What a revoked, expired or replaced document still means: 'This certificate was withdrawn: ...'."""
-    word = document_kind(kind)
+    certificate = kind == "compliant"
     if status == "revoked":
-        return f"This {word} was withdrawn: it certifies nothing."
+        if certificate:
+            return _("This certificate was withdrawn: it certifies nothing.")
+        return _("This refusal was withdrawn: it certifies nothing.")
     if status == "expired":
-        return f"This {word} no longer counts: the vehicle must be weighed again."
-    return f"This {word} was replaced and no longer counts."
+        if certificate:
+            return _("This certificate no longer counts: the vehicle must be weighed again.")
+        return _("This refusal no longer counts: the vehicle must be weighed again.")
+    if certificate:
+        return _("This certificate was replaced and no longer counts.")
+    return _("This refusal was replaced and no longer counts.")

@@ -20,6 +20,8 @@ from starlette.responses import FileResponse, RedirectResponse, Response
 from app.checker.words import checker_words
 from app.config import get_settings
 from app.errors import NotFound
+from app.i18n.active import use_locale
+from app.i18n.locales import LOCALES
 from app.web.templating import SERVICE_NAME, render
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -52,7 +54,9 @@ def version() -> str:
     for name, path in static_files().items():
         digest.update(name.encode() + b"\0" + path.read_bytes())
     digest.update((STATIC / "sw.js").read_bytes())
-    digest.update(json.dumps(checker_words(), sort_keys=True).encode())
+    for locale in LOCALES:  # the page's words in every language: a changed translation refreshes too
+        with use_locale(locale):
+            digest.update(json.dumps(checker_words(), sort_keys=True).encode())
     template = Path(__file__).resolve().parents[2] / "templates" / "checker" / "check.html"
     if template.is_file():
         digest.update(template.read_bytes())

@@ -86,6 +86,13 @@ def _document_texts(certificate: Certificate, now: datetime) -> Iterator[str]:
                 parts.append(_("Only refusal %(number)s counts.") % {"number": newer.number})
         yield " ".join([*parts, number])
         yield " ".join(parts)
+    # A translation may still be longer than one SMS: drop the end date, then the detail (a refusal's
+    # headline says it certifies nothing), never the plate and the headline.
+    headline = status_headline_on(kind, status, short_date(since) if since else None)
+    yield f"{plate}: {headline}. {detail}"
+    if status == "issued":
+        yield f"{plate}: {headline}. {until_sentence(kind, short_date(certificate.expires_at))}"
+    yield f"{plate}: {headline}."
 
 
 def find(session: Session, query: str, now: datetime) -> Found | str:

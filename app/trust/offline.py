@@ -22,6 +22,8 @@ from datetime import UTC, date, datetime
 from typing import Any, Literal, get_args
 from urllib.parse import unquote
 
+from app.i18n.active import N_
+from app.i18n.active import gettext as _
 from app.trust.bundle import BundleProblem, BundleRefused, TrustBundle, read_payload
 from app.trust.claims import PayloadRefused
 from app.trust.cwt import read_key_id, verify_cwt
@@ -93,65 +95,77 @@ class OfflineWords:
     tone: Tone
 
 
-_CANNOT = "CANNOT CONFIRM"
+_CANNOT = N_("CANNOT CONFIRM")
 _NO_COLOUR: dict[str, tuple[str, str]] = {
     "not_ours": (
-        "NOT A CERTIFICATE'S CODE",
-        "This QR code is not a certificate's code (it may be a web address or a payment code). "
-        "Scan the code printed on the certificate, or type the text under it.",
+        N_("NOT A CERTIFICATE'S CODE"),
+        N_(
+            "This QR code is not a certificate's code (it may be a web address or a payment code). "
+            "Scan the code printed on the certificate, or type the text under it."
+        ),
     ),
     "check_online": (
-        "CHECK ONLINE",
-        "Older paper: check online. Its code can be checked only with a connection.",
+        N_("CHECK ONLINE"),
+        N_("Older paper: check online. Its code can be checked only with a connection."),
     ),
     "no_bundle": (
         _CANNOT,
-        "Cannot confirm: no list of keys and revocations is held yet. Connect once to fetch it, "
-        "then check again.",
+        N_(
+            "Cannot confirm: no list of keys and revocations is held yet. Connect once to fetch it, "
+            "then check again."
+        ),
     ),
     "clock_behind": (
         _CANNOT,
-        "Cannot confirm: this device's clock is behind the time the list was made. Set the date and "
-        "time right, then check again.",
+        N_(
+            "Cannot confirm: this device's clock is behind the time the list was made. Set the date and "
+            "time right, then check again."
+        ),
     ),
     "stale": (
         _CANNOT,
-        "Cannot confirm: connect to update the list. The list this device holds is too old to rely on.",
+        N_("Cannot confirm: connect to update the list. The list this device holds is too old to rely on."),
     ),
     "damaged": (
-        "CANNOT READ THE CODE",
-        "The code is damaged or incomplete. Scan it again, or type the certificate number online.",
+        N_("CANNOT READ THE CODE"),
+        N_("The code is damaged or incomplete. Scan it again, or type the certificate number online."),
     ),
     "unknown_key": (
         _CANNOT,
-        "Cannot confirm: this paper was signed with a key the list does not know yet. Connect to "
-        "update the list, then check again.",
+        N_(
+            "Cannot confirm: this paper was signed with a key the list does not know yet. Connect to "
+            "update the list, then check again."
+        ),
     ),
     "compromised": (
         _CANNOT,
-        "Cannot confirm: check online. The key that signed this paper was withdrawn because it may "
-        "have been misused.",
+        N_(
+            "Cannot confirm: check online. The key that signed this paper was withdrawn because it may "
+            "have been misused."
+        ),
     ),
     "bundle_unreadable": (
-        "LIST NOT USED",
-        "The list received could not be read. The list held before is kept.",
+        N_("LIST NOT USED"),
+        N_("The list received could not be read. The list held before is kept."),
     ),
     "bundle_bad_signature": (
-        "LIST NOT USED",
-        "The list received is not signed by the issuing authority. The list held before is kept.",
+        N_("LIST NOT USED"),
+        N_("The list received is not signed by the issuing authority. The list held before is kept."),
     ),
     "bundle_untrusted_key": (
-        "LIST NOT USED",
-        "The list received is signed with a key this device has no reason to trust. The list held "
-        "before is kept.",
+        N_("LIST NOT USED"),
+        N_(
+            "The list received is signed with a key this device has no reason to trust. The list held "
+            "before is kept."
+        ),
     ),
     "bundle_other_issuer": (
-        "LIST NOT USED",
-        "The list received is from another authority. The list held before is kept.",
+        N_("LIST NOT USED"),
+        N_("The list received is from another authority. The list held before is kept."),
     ),
     "bundle_rollback": (
-        "LIST NOT USED",
-        "The list received is older than the one held. The list held before is kept.",
+        N_("LIST NOT USED"),
+        N_("The list received is older than the one held. The list held before is kept."),
     ),
 }
 # The verdicts in the verify page's words and colours (app/wording.py): (kind, status, public status).
@@ -172,15 +186,18 @@ def offline_words(code: str) -> OfflineWords:
         sentence = f"{meaning[:1].upper()}{meaning[1:]}."
         return OfflineWords(status_headline(kind, status), sentence, status_tone(kind, status))
     if code == "not_genuine":
-        return OfflineWords("NOT GENUINE", f"{QR_NOT_GENUINE}.", "forged")
+        return OfflineWords(_("NOT GENUINE"), f"{_(QR_NOT_GENUINE)}.", "forged")
     headline, sentence = _NO_COLOUR[code]
-    return OfflineWords(headline, sentence, "none")
+    return OfflineWords(_(headline), _(sentence), "none")
 
 
 def checked_against(made_at: int) -> str:
     """'Checked against the list of 3 December 2026, 09:40' (the display time zone)."""
     local = to_local(datetime.fromtimestamp(made_at, UTC))
-    return f"Checked against the list of {long_date(local.date())}, {local:%H:%M}"
+    return _("Checked against the list of %(date)s, %(time)s") % {
+        "date": long_date(local.date()),
+        "time": f"{local:%H:%M}",
+    }
 
 
 def words_table() -> dict[str, Any]:
