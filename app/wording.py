@@ -11,8 +11,8 @@ from typing import Literal
 
 from app.i18n.active import N_, current_locale, ngettext
 from app.i18n.active import gettext as _
-from app.stability.layout import LAYOUTS, WHEEL_WORDS
-from app.stability.model import case_label, layout_of_rules
+from app.stability.layout import LAYOUTS
+from app.stability.model import layout_of_rules
 from app.stability.remedies import Advice
 
 DocumentKind = Literal["compliant", "refusal"]
@@ -289,13 +289,28 @@ def document_headline(kind: str, max_compliant_occupants: int) -> str:
 
 def case_name(occupants: int) -> str:
     """A loading case as a document names it: 'Empty (no occupants)', 'Driver', 'Driver + 2 passengers'."""
-    return "Empty (no occupants)" if occupants <= 0 else case_label(occupants)
+    if occupants <= 0:
+        return _("Empty (no occupants)")
+    if occupants == 1:
+        return _("Driver")
+    count = occupants - 1
+    return ngettext("Driver + %(count)s passenger", "Driver + %(count)s passengers", count) % {"count": count}
 
 
 _RULES = {
-    "lsf<2/3:cumulative-cases:v1": "LSF below 2/3 in every loading case (rules v1)",
-    "lsf<1/3:cumulative-cases:v1": "LSF below 1/3 in every loading case (tadpole rules v1)",
-    "lsf<1/2:cumulative-cases:v1": "LSF below 1/2 in every loading case (quadricycle rules v1)",
+    "lsf<2/3:cumulative-cases:v1": N_("LSF below 2/3 in every loading case (rules v1)"),
+    "lsf<1/3:cumulative-cases:v1": N_("LSF below 1/3 in every loading case (tadpole rules v1)"),
+    "lsf<1/2:cumulative-cases:v1": N_("LSF below 1/2 in every loading case (quadricycle rules v1)"),
+}
+# Each wheel's row on an inspection's page (the core's WHEEL_WORDS, capitalised, to be translated).
+_WHEEL_ROWS = {
+    "front_kg": N_("Front wheel reaction"),
+    "left_front_kg": N_("Left front wheel reaction"),
+    "right_front_kg": N_("Right front wheel reaction"),
+    "left_rear_kg": N_("Left rear wheel reaction"),
+    "right_rear_kg": N_("Right rear wheel reaction"),
+    "rear_kg": N_("Rear wheel reaction"),
+    "overall_kg": N_("Overall weight"),
 }
 
 
@@ -306,32 +321,33 @@ def layout_of(rules_version: str) -> str:
 
 def wheel_rows(layout: str = "delta") -> list[tuple[str, str]]:
     """A layout's wheels, front first, each with its name on a page: ('rear_kg', 'Rear wheel reaction')."""
-    return [(wheel, WHEEL_WORDS[wheel].capitalize()) for wheel in LAYOUTS[layout].wheels]
+    return [(wheel, _(_WHEEL_ROWS[wheel])) for wheel in LAYOUTS[layout].wheels]
 
 
 def rear_weight_heading(layout: str = "delta") -> str:
     """Table 4's column of the rear axle's load: 'Weight on rear wheels (kg)', or '... the rear wheel'."""
-    return "Weight on rear wheels (kg)" if LAYOUTS[layout].n_rear > 1 else "Weight on the rear wheel (kg)"
+    return (
+        _("Weight on rear wheels (kg)") if LAYOUTS[layout].n_rear > 1 else _("Weight on the rear wheel (kg)")
+    )
 
 
 def variance_note(layout: str = "delta") -> str:
     """What Table 4's variance and verdict mean, with the layout's limit."""
-    limit = LAYOUTS[layout].limit_text
-    return (
-        f"Variance is {limit} minus the LSF: positive is a margin, negative an excess. A case complies (C) "
-        f"only when its LSF is less than {limit}, decided on the exact figures."
-    )
+    return _(
+        "Variance is %(limit)s minus the LSF: positive is a margin, negative an excess. A case complies "
+        "(C) only when its LSF is less than %(limit)s, decided on the exact figures."
+    ) % {"limit": LAYOUTS[layout].limit_text}
 
 
 def chart_caption(layout: str = "delta") -> str:
     """The caption under an inspection's chart, with the layout's limit."""
-    return (
+    return _(
         "Lateral Stability Factor (LSF) of each loading case. Circles marked C are compliant; crosses "
-        f"marked NC are not. The shaded region above the dashed line at {LAYOUTS[layout].limit_text} "
-        "is unstable."
-    )
+        "marked NC are not. The shaded region above the dashed line at %(limit)s is unstable."
+    ) % {"limit": LAYOUTS[layout].limit_text}
 
 
 def rules_words(rules_version: str) -> str:
     """The rules a verdict was decided under, in words: 'LSF below 2/3 in every loading case (rules v1)'."""
-    return _RULES.get(rules_version, f"rules {rules_version}")
+    words = _RULES.get(rules_version)
+    return _(words) if words is not None else _("rules %(version)s") % {"version": rules_version}
