@@ -14,8 +14,9 @@ import app.models  # noqa: F401  (every table known to the mapper, whichever rou
 from app import __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
+from app.certificates.kept_door import KeptAnswersFirst
 from app.certificates.public import public_router
-from app.composition import api_router, callback_routers, hot_router, page_routers
+from app.composition import api_router, callback_routers, hot_router, kept_endpoints, page_routers
 from app.config import get_settings
 from app.ops.docs import install_docs
 from app.ops.health import router as health_router
@@ -64,6 +65,8 @@ def create_app() -> FastAPI:
         redoc_url=None,
     )
     install_error_handlers(app)
+    # Innermost: a kept public verification is answered inside every middleware, before the routing.
+    app.add_middleware(KeptAnswersFirst, endpoints=kept_endpoints)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.add_middleware(PublicRateLimit)  # inside the request log and the pages' headers
     app.include_router(hot_router)  # first: a submission is matched before any other route

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from datetime import datetime
 
 from sqlalchemy import func, select
-from sqlalchemy.orm import Session
 from starlette.responses import Response
 
 from app.certificates.models import Certificate, CertificateAudit
@@ -24,29 +23,26 @@ from app.certificates.records import certificate_status
 from app.config import get_settings
 from app.db import utcnow
 from app.i18n.active import current_locale
+from app.marks import Mark, MarkQuery
 from app.trust.numbers import InvalidNumber, parse_number
 
 MAX_ANSWERS = 4096  # a flood of distinct numbers evicts the oldest, and costs only a render each
 
-# Headers the response computes from its body again.
-_RECOMPUTED = {"content-length"}
-
 
 @dataclass(frozen=True)
 class Kept:
-    """One answer as sent: its status, body and headers, with the mark it was made under."""
+    """One answer as sent: its status, body and headers (in order), with the mark it was made under."""
 
-    mark: object
+    mark: Mark
     until: datetime | None
     status_code: int
     body: bytes
-    headers: tuple[tuple[str, str], ...]
+    headers: tuple[tuple[bytes, bytes], ...]
 
     def response(self) -> Response:
         """A fresh response with the kept bytes and headers."""
         response = Response(self.body, status_code=self.status_code)
-        for name, value in self.headers:
-            response.headers.append(name, value)
+        response.raw_headers = list(self.headers)
         return response
 
 
@@ -54,9 +50,8 @@ _kept: OrderedDict[tuple[object, ...], Kept] = OrderedDict()
 _lock = threading.Lock()
 
 
-def change_mark(session: Session) -> object:
-    """What changes with every issue, reissue, supersession and revocation: the newest audit entry."""
-    return session.scalar(select(func.max(CertificateAudit.id)))
+# What changes with every issue, reissue, supersession and revocation: the newest audit entry.
+CHANGE_MARK = MarkQuery(select(func.max(CertificateAudit.id)))
 
 
 def verdict_until(certificate: Certificate) -> datetime | None:
@@ -73,25 +68,32 @@ def answer_key(kind: str, number: str) -> tuple[object, ...] | None:
     return (get_settings().database_url, kind, canonical, current_locale())
 
 
-def kept_answer(
-    session: Session, kind: str, number: str, make: Callable[[], tuple[Response, datetime | None]]
-) -> Response:
+def is_kept(key: tuple[object, ...]) -> bool:
+    """Whether an answer is kept under this key (it may since have gone stale)."""
+    return key in _kept
+
+
+def held_answer(key: tuple[object, ...], mark: Mark) -> Kept | None:
+    """The answer kept under this key if it was made under this mark and its verdict stands by the clock."""
+    held = _kept.get(key)
+    if held is not None and held.mark == mark and (held.until is None or utcnow() < held.until):
+        return held
+    return None
+
+
+def kept_answer(kind: str, number: str, make: Callable[[], tuple[Response, datetime | None]]) -> Response:
     """The answer kept for this number while nothing changed and its verdict stands by the clock,
     else a new one from `make` (which returns the answer and the moment its verdict would change)."""
     key = answer_key(kind, number)
     if key is None:
         return make()[0]
-    mark = change_mark(session)
-    held = _kept.get(key)
-    if held is not None and held.mark == mark and (held.until is None or utcnow() < held.until):
+    mark = CHANGE_MARK.read()  # before the answer is made: a change after it makes the next one anew
+    held = held_answer(key, mark)
+    if held is not None:
         return held.response()
     response, until = make()
     if 200 <= response.status_code < 500 and response.body is not None:
-        headers = tuple(
-            (name.decode("latin-1"), value.decode("latin-1"))
-            for name, value in response.raw_headers
-            if name.decode("latin-1").lower() not in _RECOMPUTED
-        )
+        headers = tuple(response.raw_headers)
         with _lock:
             _kept[key] = Kept(mark, until, response.status_code, bytes(response.body), headers)
             _kept.move_to_end(key)

@@ -9,6 +9,7 @@ from fastapi import APIRouter, Path, Response
 from starlette.requests import Request
 from starlette.responses import RedirectResponse
 
+from app.certificates.bundle_answer import bundle_response
 from app.certificates.officer_views import router as officer_router
 from app.certificates.records import verify_base
 from app.certificates.trust_bundle import served_bundle
@@ -36,23 +37,6 @@ def signing_keys(session: SessionDep, response: Response) -> dict[str, Any]:
     return published_keys(session, get_settings())
 
 
-def _etag_matches(header: str | None, etag: str) -> bool:
-    """If-None-Match compares weakly (RFC 9110, 13.1.2): '*' or any listed tag, W/ or not."""
-    if header is None:
-        return False
-    tags = [tag.strip().removeprefix("W/") for tag in header.split(",")]
-    return "*" in tags or etag in tags
-
-
-def _accepts_gzip(header: str) -> bool:
-    for part in header.lower().split(","):
-        name, _, params = part.strip().partition(";")
-        if name.strip() in ("gzip", "*"):
-            q = params.strip().removeprefix("q=")
-            return not params.strip().startswith("q=") or q.strip() not in ("0", "0.0", "0.00", "0.000")
-    return False
-
-
 @public_router.get(
     "/.well-known/trikecert-trust",
     include_in_schema=False,  # a fixed, public address outside the station API
@@ -61,14 +45,9 @@ def _accepts_gzip(header: str) -> bool:
 def trust_bundle(request: Request, session: SessionDep) -> Response:
     """The signed trust bundle (docs/verification.md): 304 when If-None-Match names it; gzip when asked."""
     built = served_bundle(session, get_settings())
-    zipped = _accepts_gzip(request.headers.get("accept-encoding", ""))
-    etag = built.gzip_etag if zipped else built.etag
-    headers = {"ETag": etag, "Cache-Control": "no-cache", "Vary": "Accept-Encoding"}
-    if _etag_matches(request.headers.get("if-none-match"), etag):
-        return Response(status_code=304, headers=headers)
-    if zipped:
-        headers["Content-Encoding"] = "gzip"
-    return Response(built.gzipped if zipped else built.body, media_type="application/jose", headers=headers)
+    return bundle_response(
+        built, request.headers.get("accept-encoding", ""), request.headers.get("if-none-match")
+    )
 
 
 def _raw_payload(request: Request) -> str | None:

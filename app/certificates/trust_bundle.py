@@ -26,6 +26,7 @@ from sqlalchemy.orm import Session, aliased
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation, CertificateSequence
 from app.config import Settings
 from app.db import utcnow
+from app.marks import MarkQuery
 from app.trust.bundle import (
     BundleKey,
     Endorsement,
@@ -73,17 +74,10 @@ def event_count(session: Session) -> int:
     return revocations + supersessions + key_event_count(session)
 
 
-def _marker(session: Session) -> tuple[object, ...]:
-    """What changes whenever the bundle may have, in one statement of index look-ups: the newest
-    certificate audit entry (every issue, reissue, supersession and revocation writes one, which the
-    records' triggers enforce) and the small key tables."""
-    row = session.execute(
-        select(
-            select(func.max(CertificateAudit.id)).scalar_subquery(),
-            *key_event_marks(),
-        )
-    ).one()
-    return tuple(row)
+# What changes whenever the bundle may have, in one statement of index look-ups: the newest certificate
+# audit entry (every issue, reissue, supersession and revocation writes one, which the records'
+# triggers enforce) and the small key tables.
+BUNDLE_MARK = MarkQuery(select(select(func.max(CertificateAudit.id)).scalar_subquery(), *key_event_marks()))
 
 
 def _state(session: Session) -> tuple[int, str]:
@@ -213,7 +207,7 @@ def served_bundle(session: Session, settings: Settings) -> Built:
     one. A request costs one statement while no certificate or key event happened; after one (an
     issue, say) the exact state is counted, and the kept bundle stays when it did not change."""
     now = utcnow()
-    marker = _marker(session)
+    marker = BUNDLE_MARK.read()
     held = _cache.get(settings.database_url)
     if held is not None and held.made_at == _hour(now):
         if held.marker == marker:
@@ -229,6 +223,19 @@ def served_bundle(session: Session, settings: Settings) -> Built:
         built = replace(build_bundle(session, settings, now), marker=marker)
         _cache[settings.database_url] = built
         return built
+
+
+def is_bundle_kept(settings: Settings) -> bool:
+    """Whether a bundle is kept for this database (it may since have gone stale)."""
+    return settings.database_url in _cache
+
+
+def held_bundle(settings: Settings, marker: tuple[object, ...]) -> Built | None:
+    """The bundle kept for this database if it was made this hour under this mark, else None."""
+    held = _cache.get(settings.database_url)
+    if held is not None and held.made_at == _hour(utcnow()) and held.marker == marker:
+        return held
+    return None
 
 
 def forget_bundles() -> None:

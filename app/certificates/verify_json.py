@@ -43,7 +43,11 @@ def _quality(accept: str, media_type: str) -> float:
 
 def wants_json(request: Request) -> bool:
     """The client names application/json in Accept and does not prefer HTML."""
-    accept = request.headers.get("accept", "")
+    return accepts_json(request.headers.get("accept", ""))
+
+
+def accepts_json(accept: str) -> bool:
+    """An Accept header that names application/json and does not prefer HTML."""
     json_q = _quality(accept, JSON)
     return json_q > 0 and json_q >= _quality(accept, "text/html")
 
@@ -67,7 +71,7 @@ def verification_json(session: Session, number: str, payload: str | None) -> Res
     Without a scanned payload, the answer kept while the records say nothing changed (answer_cache)."""
     if payload is not None:
         return _verification_json(session, number, payload)[0]
-    return kept_answer(session, "verify-json", number, lambda: _verification_json(session, number, None))
+    return kept_answer("verify-json", number, lambda: _verification_json(session, number, None))
 
 
 def _verification_json(
@@ -91,7 +95,7 @@ def api_verification(session: Session, number: str, payload: str | None) -> Resp
         body = verification(session, certificate, payload).model_dump(mode="json", exclude_none=True)
         return JSONResponse(body), verdict_until(certificate)
 
-    return make()[0] if payload is not None else kept_answer(session, "api-verify", number, make)
+    return make()[0] if payload is not None else kept_answer("api-verify", number, make)
 
 
 def error_json(error: ServiceError, headers: dict[str, str] | None = None) -> JSONResponse:

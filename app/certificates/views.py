@@ -122,7 +122,7 @@ def verify_page(
         return verification_json(session, number, p)
     if p:
         return _verify_page(request, session, number, p)[0]
-    return kept_answer(session, "verify-html", number, lambda: _verify_page(request, session, number, None))
+    return kept_answer("verify-html", number, lambda: _verify_page(request, session, number, None))
 
 
 def _verify_page(

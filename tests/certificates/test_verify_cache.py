@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, register, weigh
 from fastapi.testclient import TestClient
+from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session
 from web.webtools import ADMIN_EMAIL, PASSWORD, hidden, sign_in
 
@@ -117,12 +118,12 @@ def test_an_answer_is_kept_per_number(
     made: list[str] = []
     keep = answer_cache.kept_answer
 
-    def counted(session: Session, kind: str, asked: str, make: Any) -> Any:
+    def counted(kind: str, asked: str, make: Any) -> Any:
         def counted_make() -> Any:
             made.append(asked)
             return make()
 
-        return keep(session, kind, asked, counted_make)
+        return keep(kind, asked, counted_make)
 
     monkeypatch.setattr("app.certificates.verify_json.kept_answer", counted)
     written_otherwise = number.lower()
@@ -132,3 +133,96 @@ def test_an_answer_is_kept_per_number(
     assert made == [other]
     assert (first["number"], second["number"]) == (number, other)
     assert api.get(f"/api/v1/verify/{number}").json()["number"] == number
+
+
+DOORS = {  # the three addresses of a public verification: path prefix, request headers
+    "page": ("/verify/", {}),
+    "page as JSON": ("/verify/", JSON),
+    "API": ("/api/v1/verify/", {}),
+}
+PER_REQUEST = {"date", "x-request-id"}
+
+
+def comparable(response: Any) -> tuple[int, bytes, list[tuple[str, str]]]:
+    """Status, body and headers in order, without those made anew for every request."""
+    headers = [(name, value) for name, value in response.headers.multi_items() if name not in PER_REQUEST]
+    return response.status_code, response.content, headers
+
+
+@pytest.mark.parametrize("door", DOORS)
+def test_a_kept_answer_is_served_before_the_router_exactly_as_the_route_sent_it(
+    door: str, certificate: dict[str, Any], client: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    prefix, headers = DOORS[door]
+    address = prefix + certificate["number"]
+    made = client.get(address, headers=headers)  # made by the route, and kept
+
+    def no_route(*_: Any, **__: Any) -> Any:
+        raise AssertionError("the route was called for a kept answer")
+
+    monkeypatch.setattr("app.certificates.views.kept_answer", no_route)
+    monkeypatch.setattr("app.certificates.verify_json.kept_answer", no_route)
+    served = client.get(address, headers=headers)
+    assert comparable(served) == comparable(made)
+    assert served.headers["x-request-id"] != made.headers["x-request-id"]
+
+
+@pytest.mark.parametrize("door", DOORS)
+def test_a_revocation_shows_on_the_next_request_at_each_door(
+    door: str, certificate: dict[str, Any], client: TestClient, session: Session
+) -> None:
+    prefix, headers = DOORS[door]
+    address = prefix + certificate["number"]
+    for _ in range(3):
+        assert "revoked" not in client.get(address, headers=headers).text.lower()
+    revoke_certificate(session, number=certificate["number"], actor=Actor.of_cli(), reason="Stolen plate")
+    session.commit()
+    answer = client.get(address, headers=headers)
+    assert answer.status_code == 200
+    assert ("REVOKED" in answer.text) if door == "page" else answer.json()["status"] == "revoked"
+
+
+def test_a_scanned_payload_or_any_query_goes_to_the_route(
+    certificate: dict[str, Any], client: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    number = certificate["number"]
+    warm(client, number)
+    called: list[str] = []
+    route = answer_cache.kept_answer
+
+    def counted(kind: str, asked: str, make: Any) -> Any:
+        called.append(kind)
+        return route(kind, asked, make)
+
+    monkeypatch.setattr("app.certificates.views.kept_answer", counted)
+    monkeypatch.setattr("app.certificates.verify_json.kept_answer", counted)
+    client.get(f"/verify/{number}")
+    assert called == []
+    assert client.get(f"/verify/{number}?p=NOT-A-PAYLOAD").status_code == 200  # the route checks it
+    client.get(f"/verify/{number}?utm=poster")
+    client.get(f"/api/v1/verify/{number}?utm=poster")
+    assert called == ["verify-html", "api-verify"]
+
+
+def test_a_database_that_fails_the_door_leaves_the_answer_to_the_route(
+    certificate: dict[str, Any], client: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    number = certificate["number"]
+    warm(client, number)
+
+    async def outage() -> object:
+        raise OperationalError("SELECT max(id)", {}, Exception("connection refused"))
+
+    monkeypatch.setattr(answer_cache.CHANGE_MARK, "read_soon", outage)
+    assert statuses(client, number) == ("certified", "certified", "valid")
+
+
+def test_the_request_log_names_the_route_that_kept_the_answer(
+    certificate: dict[str, Any], client: TestClient
+) -> None:
+    number = certificate["number"]
+    warm(client, number)
+    metrics = client.get("/metrics").text
+    served = [line for line in metrics.splitlines() if 'handler="verify_page"' in line and "_total" in line]
+    assert served, "the kept answers are counted under the route's name"
+    assert 'handler="unmatched"' not in "".join(served)

@@ -4,7 +4,9 @@ gzip when asked, no-cache; a revocation is in the very next answer."""
 from __future__ import annotations
 
 import gzip
+from typing import Any
 
+import pytest
 from fastapi.testclient import TestClient
 from offline_cases import COMPLIANT, COMPLIANT_READINGS, _issue, trust_anchor
 from sqlalchemy.orm import Session
@@ -64,3 +66,37 @@ def test_a_revocation_is_in_the_very_next_bundle(api: TestClient, session: Sessi
     assert digits not in before.revoked
     assert after.revoked[digits][1] == "R"
     assert after.seq > before.seq
+
+
+def _comparable(response: Any) -> tuple[int, bytes, list[tuple[str, str]]]:
+    per_request = ("date", "x-request-id")
+    headers = [(n, v) for n, v in response.headers.multi_items() if n not in per_request]
+    return response.status_code, response.content, headers
+
+
+def test_a_kept_bundle_is_served_before_the_router_exactly_as_the_route_serves_it(
+    api: TestClient, session: Session, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    paper = _issue(api, "KTU 419 XA", COMPLIANT, COMPLIANT_READINGS)
+    asks = [{"Accept-Encoding": "identity"}, {"Accept-Encoding": "gzip"}]
+    monkeypatch.setattr("app.certificates.kept_door.is_bundle_kept", lambda _settings: False)
+    by_route = [api.get(PATH, headers=headers) for headers in asks]
+    tags = [answer.headers["etag"] for answer in by_route]
+    asks += [{**headers, "If-None-Match": tag} for headers, tag in zip(asks, tags, strict=True)]
+    by_route += [api.get(PATH, headers=headers) for headers in asks[2:]]
+    monkeypatch.undo()
+
+    def no_route(*_: object, **__: object) -> object:
+        raise AssertionError("the route was called for the kept bundle")
+
+    monkeypatch.setattr("app.certificates.public.served_bundle", no_route)
+    served = [api.get(PATH, headers=headers) for headers in asks]
+    assert [_comparable(answer) for answer in served] == [_comparable(answer) for answer in by_route]
+    assert [answer.status_code for answer in served] == [200, 200, 304, 304]
+
+    monkeypatch.undo()
+    revoke_certificate(session, number=paper["number"], actor=Actor.of_cli(), reason="plate forged")
+    session.commit()
+    after = api.get(PATH, headers=asks[2])  # the next request: a new bundle, not the 304
+    assert after.status_code == 200
+    assert after.headers["etag"] != by_route[0].headers["etag"]
