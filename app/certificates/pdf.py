@@ -233,7 +233,7 @@ def _render(document: CertificateDocument) -> tuple[bytes, Layout]:
     _table(pdf, facts, places)
     _chart(pdf, document)
     if facts.estimates is not None:
-        draw_estimates(pdf, facts.estimates)
+        draw_estimates(pdf, facts.estimates, facts.axles)
     pdf.page_lines(name)
     if document.kind != "compliant":
         _page_frames(pdf)

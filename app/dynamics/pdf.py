@@ -15,7 +15,7 @@ from app.dynamics.facts import CaseEstimateFacts, EstimateFacts
 from app.dynamics.wording import frozen, section_lead, section_title
 from app.i18n.active import gettext as _
 from app.i18n.active import use_locale
-from app.stability import case_label
+from app.stability import DELTA, Layout, case_label
 from app.web.chart import MapGeometry, map_geometry
 from app.wording import case_name
 
@@ -45,8 +45,9 @@ def _name(label: str) -> str:
     return case_name(0) if label == case_label(0) else label
 
 
-def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
-    """The whole section on one page (a new one if it does not fit below the chart)."""
+def draw_estimates(pdf: Page, estimates: EstimateFacts, layout: Layout = DELTA) -> None:
+    """The whole section on one page (a new one if it does not fit below the chart); the map's limit
+    line is the vehicle's `layout`'s."""
     row_h = line_height(SIZE) + 0.8
     says = [lambda i=i: headings()[i] for i in range(len(WIDTHS))]
     heading_h = max(
@@ -80,8 +81,9 @@ def draw_estimates(pdf: Page, estimates: EstimateFacts) -> None:
     y = pdf.words(MARGIN, y, CONTENT_W, lead, 8)
     y = _table(pdf, estimates, y, heading_h, row_h) + 3
     if points:
-        geometry = map_geometry(points, estimates.min_rollover_g)
-        area = draw_map(pdf, Box(MARGIN + MAP_LEFT, y + MAP_ABOVE, MAP_W, MAP_H), geometry)
+        geometry = map_geometry(points, estimates.min_rollover_g, layout.limit)
+        box = Box(MARGIN + MAP_LEFT, y + MAP_ABOVE, MAP_W, MAP_H)
+        area = draw_map(pdf, box, geometry, limit_text=layout.limit_text)
         pdf.region("map", *area)
         beside = area[0] + area[2] + 4
         pdf.words(beside, y, PAGE_W - MARGIN - beside, inputs, 7.5)
@@ -146,8 +148,11 @@ def _table(pdf: Page, estimates: EstimateFacts, top: float, heading_h: float, ro
     return y
 
 
-def draw_map(pdf: Page, box: Box, geometry: MapGeometry) -> tuple[float, float, float, float]:
-    """Draw the stability map's plotting area at `box`; returns the area it covers with its labels."""
+def draw_map(
+    pdf: Page, box: Box, geometry: MapGeometry, *, limit_text: str = DELTA.limit_text
+) -> tuple[float, float, float, float]:
+    """Draw the stability map's plotting area at `box`, its limit line labelled with `limit_text` ("2/3"
+    on a delta); returns the area it covers with its labels."""
 
     def x_of(across: float) -> float:
         return box.x + across * box.w
@@ -179,7 +184,7 @@ def draw_map(pdf: Page, box: Box, geometry: MapGeometry) -> tuple[float, float, 
     pdf.set_line_width(0.4)
     pdf.line(limit_x, box.y, limit_x, box.y + box.h)
     pdf.set_font(fonts.FAMILY, "B", 7)
-    pdf.text(limit_x + 1, box.y + 3, "limit 2/3")
+    pdf.text(limit_x + 1, box.y + 3, f"limit {limit_text}")
     if geometry.min_rollover is not None:
         up, label = geometry.min_rollover
         pdf.set_dash_pattern(dash=0.4, gap=0.8)
@@ -197,7 +202,7 @@ def draw_map(pdf: Page, box: Box, geometry: MapGeometry) -> tuple[float, float, 
             pdf.line(cx - 1.4, cy + 1.4, cx + 1.4, cy - 1.4)
         pdf.set_font(fonts.FAMILY, "", 7)
         label = point.short_label
-        # Below its marker (above it near the axis): the 2/3 and minimum lines run above most points.
+        # Below its marker (above it near the axis): the limit and minimum lines run above most points.
         below = box.y + box.h - cy > 6
         pdf.text(cx - pdf.get_string_width(label) / 2, cy + 4.6 if below else cy - 2.4, label)
     pdf.set_line_width(0.2)

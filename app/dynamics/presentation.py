@@ -16,6 +16,7 @@ from app.dynamics.wording import (
     REVISION,
     critical_speed_text,
     figure_text,
+    map_caption,
     missing_sentence,
     not_known,
     readings_text,
@@ -24,6 +25,7 @@ from app.dynamics.wording import (
 )
 from app.i18n.active import N_
 from app.i18n.active import gettext as _
+from app.stability import DELTA, Layout, layout_named
 from app.stability.dynamics import Dynamics, DynamicsInput
 from app.web.chart import MapPoint, short_label, stability_map
 from app.wording import case_name
@@ -53,6 +55,7 @@ class Estimates:
     missing: str | None
     points: list[MapPoint]
     min_rollover_g: float | None
+    layout: Layout = DELTA  # the map's limit line and words
 
     @property
     def known(self) -> bool:
@@ -64,6 +67,7 @@ class Estimates:
 def estimates(inspection: EstimatedInspection) -> Estimates:
     """The estimates of a stored inspection, in words and as map points."""
     data, dynamics = inspection_dynamics(inspection)
+    layout = layout_named(inspection.layout)
     rows, points = [], []
     for case, figures in zip(inspection.loading_cases, dynamics.cases, strict=True):
         lsf = float(case.lsf)
@@ -95,9 +99,10 @@ def estimates(inspection: EstimatedInspection) -> Estimates:
     return Estimates(
         rows=rows,
         inputs=inputs_used(inspection, data, dynamics),
-        missing=missing_sentence(dynamics.missing),
+        missing=missing_sentence(dynamics.missing, layout),
         points=points,
         min_rollover_g=get_settings().min_rollover_g,
+        layout=layout,
     )
 
 
@@ -116,29 +121,31 @@ def inputs_used(
 
     gap = _(NOT_RECORDED)
     heights = ", ".join(given(z, 2) for z in vehicle.seat_heights_m) or gap
+    two_front, one_rear = data.n_front > 1, data.n_rear == 1
+    front_tyre = (
+        N_("Each front tyre's cornering stiffness") if two_front else N_("Front tyre cornering stiffness")
+    )
+    rear_tyre = (
+        N_("Rear tyre cornering stiffness") if one_rear else N_("Each rear tyre's cornering stiffness")
+    )
     rows = [
         (
             N_("Vehicle figures"),
             _(REVISION) % {"revision": revision.revision} if revision else _(NONE_ON_FILE),
         ),
-        (N_("Rear track"), given(vehicle.track_m, 3, "m")),
-        *([(N_("Front track"), given(vehicle.front_track_m, 3, "m"))] if data.n_front > 1 else []),
+        # One rear wheel has no rear track: the vehicle tips about its front track alone.
+        *([] if one_rear else [(N_("Rear track"), given(vehicle.track_m, 3, "m"))]),
+        *([(N_("Front track"), given(vehicle.front_track_m, 3, "m"))] if two_front else []),
         (N_("Loaded rear wheel radius"), given(vehicle.wheel_radius_m, 3, "m")),
         (N_("Seated heights, driver first"), heights if heights == gap else f"{heights} m"),
-        (
-            N_("Front tyre cornering stiffness"),
-            given(vehicle.front_cornering_stiffness_n_per_rad, 0, "N/rad"),
-        ),
-        (
-            N_("Each rear tyre's cornering stiffness"),
-            given(vehicle.rear_cornering_stiffness_n_per_rad, 0, "N/rad"),
-        ),
+        (front_tyre, given(vehicle.front_cornering_stiffness_n_per_rad, 0, "N/rad")),
+        (rear_tyre, given(vehicle.rear_cornering_stiffness_n_per_rad, 0, "N/rad")),
     ]
     if lift is not None:
-        rows.append((N_("Front wheel raised by"), figure_text(lift.lift_height_m, 3, "m")))
-        rows.append(
-            (N_("Front wheel reaction, raised"), readings_text(stored.get("front_kg", []), lift.front_kg))
-        )
+        raised = N_("Front axle raised by") if two_front else N_("Front wheel raised by")
+        reaction = N_("Front axle reaction, raised") if two_front else N_("Front wheel reaction, raised")
+        rows.append((raised, figure_text(lift.lift_height_m, 3, "m")))
+        rows.append((reaction, readings_text(stored.get("front_kg", []), lift.front_kg)))
     if data.cg_height_m is not None:
         rows.append((N_("Centre of gravity height (given)"), figure_text(data.cg_height_m, 3, "m")))
     rows.append(
@@ -151,7 +158,13 @@ def map_svg(content: Estimates, *, chart_id: str = "stability-map") -> Markup | 
     """The stability map, or None when no case's rollover threshold is known."""
     if not content.points:
         return None
-    return stability_map(content.points, min_rollover_g=content.min_rollover_g, chart_id=chart_id)
+    return stability_map(
+        content.points,
+        min_rollover_g=content.min_rollover_g,
+        chart_id=chart_id,
+        limit=content.layout.limit,
+        rear_axle_words=content.layout.rear_axle_words,
+    )
 
 
 def dynamics_context(inspection: EstimatedInspection) -> dict[str, object]:
@@ -160,6 +173,7 @@ def dynamics_context(inspection: EstimatedInspection) -> dict[str, object]:
     return {
         "estimates": content,
         "stability_map": map_svg(content),
+        "map_caption": map_caption(content.layout, with_minimum=content.min_rollover_g is not None),
         "estimates_title": section_title(),
         "estimates_lead": section_lead(),
     }

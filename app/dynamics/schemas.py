@@ -57,14 +57,17 @@ def figure_schema(name: str, description: str) -> WithJsonSchema:
     )
 
 
-_TRACK = "Rear track: between the centres of the rear tyres' contact patches (m)."
+_TRACK = (
+    "Rear track, for two rear wheels (delta, quadricycle): between the centres of the rear tyres' "
+    "contact patches (m); a tadpole's one rear wheel has none."
+)
 _FRONT_TRACK = (
     "Front track, for two front wheels (tadpole, quadricycle): between the centres of the front tyres' "
     "contact patches (m)."
 )
 _RADIUS = "Loaded rear wheel radius: axle centre to the ground (m)."
-_FRONT = "Cornering stiffness of the front tyre (N/rad)."
-_REAR = "Cornering stiffness of each rear tyre (N/rad)."
+_FRONT = "Cornering stiffness of the front tyre, of each front tyre where there are two (N/rad)."
+_REAR = "Cornering stiffness of each rear tyre, of the one rear tyre on a tadpole (N/rad)."
 _DRAG = "Drag coefficient times frontal area, Cd x A (m²)."
 _PRESSURE = "Height of the centre of pressure above the ground (m)."
 _ONLY_NUMBERS = BeforeValidator(number_only)
@@ -152,7 +155,7 @@ class VehicleDynamicsOut(BaseModel):
     )
 
 
-_LIFT = "How far the front wheel is raised for the second weighing (m)."
+_LIFT = "How far the front wheel (two front wheels: the front axle) is raised for the second weighing (m)."
 _CG = "The empty vehicle's centre of gravity height above the ground (m), if known (not with cg_lift)."
 LiftHeight = Annotated[
     Decimal,
@@ -171,15 +174,15 @@ RaisedFrontReading = Annotated[
     WithJsonSchema(
         {
             **readings_schema(_RAISED),
-            "description": "The front wheel reaction with the wheel raised (kg): one reading, or a list "
-            "of repeated readings that are averaged.",
+            "description": "The front wheel reaction with the wheel raised (kg), two front wheels' together "
+            "with the axle raised: one reading, or a list of repeated readings that are averaged.",
         }
     ),
 ]
 
 
 class CgLiftIn(BaseModel):
-    """The axle-lift weighing: the front wheel raised by `lift_height_m`, its reaction read again."""
+    """The axle-lift weighing: the front axle raised by `lift_height_m`, its reaction read again."""
 
     model_config = ConfigDict(extra="forbid")
 
@@ -191,10 +194,15 @@ class CaseDynamicsOut(BaseModel):
     """Estimates for one loading case (not part of the verdict); null where an input is unknown."""
 
     cg_height_m: float | None = Field(description="Centre of gravity height of the case (m).")
-    rollover_threshold_g: float | None = Field(description="Static rollover threshold (T / 2h) LSF (g).")
+    rollover_threshold_g: float | None = Field(
+        description="Static rollover threshold y / h (g), y the tipping axis's distance from the centre line "
+        "at the CG: (T / 2h) LSF on a delta, (T_f / 2h)(1 - LSF) on a tadpole, T / 2h on a quadricycle with "
+        "equal tracks."
+    )
     tilt_angle_deg: float | None = Field(description="Tilt-table angle at which it would tip (degrees).")
     understeer_margin_nm_per_rad: float | None = Field(
-        description="S = 2 L2 CaR - L1 CaF (N m/rad): positive understeers at every speed."
+        description="S = n_r L2 CaR - n_f L1 CaF (N m/rad), 2 L2 CaR - L1 CaF on a delta: positive "
+        "understeers at every speed."
     )
     critical_speed_kmh: float | None = Field(
         description="Speed above which an oversteering case turns unstable (km/h); null when S > 0."
@@ -209,7 +217,10 @@ class CaseAtSpeedOut(CaseDynamicsOut):
     lsf: float
     compliant: bool = Field(description="The static verdict, as stored; never changed by an estimate.")
     lsf_at_speed: float | None = Field(description="LSF with drag and acceleration moving load rearward.")
-    compliant_at_speed: bool | None = Field(description="Whether the LSF at speed is below 2/3 (estimate).")
+    compliant_at_speed: bool | None = Field(
+        description="Whether the LSF at speed is below the layout's limit (2/3 delta, 1/3 tadpole, "
+        "1/2 quadricycle) (estimate)."
+    )
     margin_speed_kmh: float | None = Field(
         description="Speed at which drag alone uses up the static margin (km/h); null for a case NC at rest."
     )

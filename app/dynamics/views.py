@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import Decimal
 
 from fastapi import APIRouter
@@ -19,7 +19,7 @@ from app.dynamics.service import DynamicsFigures, record_figures, revision_figur
 from app.errors import NotFound, ServiceError
 from app.i18n.active import N_
 from app.i18n.active import gettext as _
-from app.stability.layout import layout_named
+from app.stability.layout import DELTA, Layout, layout_named
 from app.web.deps import FormDep, SessionDep
 from app.web.formatting import NOT_RECORDED, or_not_recorded
 from app.web.forms import FormErrors, parse_decimal, text
@@ -53,21 +53,44 @@ LABELS = {
         N_("Where the wind's force acts, above the ground, like 0.900; an estimate"),
     ),
 }
+# A layout whose tyres are not the delta's one front and two rear has these words instead.
+TWO_FRONT_LABELS = {
+    "front_cornering_stiffness_n_per_rad": (
+        N_("Each front tyre's cornering stiffness (N/rad)"),
+        N_("From the tyre maker or a test, like 8000; an estimate"),
+    ),
+}
+ONE_REAR_LABELS = {
+    "rear_cornering_stiffness_n_per_rad": (
+        N_("Rear tyre cornering stiffness (N/rad)"),
+        N_("From the tyre maker or a test, like 8000; an estimate"),
+    ),
+}
 SEAT_HINT = N_(
     "The seated person's centre of gravity above the ground, some 0.2 m above the seat top, like 0.75"
 )
 
 
-def labels() -> dict[str, tuple[str, str]]:
-    """Each figure's label and hint in the active language."""
-    return {name: (_(label), _(hint)) for name, (label, hint) in LABELS.items()}
+def _words(layout: Layout) -> dict[str, tuple[str, str]]:
+    """Each figure's label and hint as marked, for the layout's tyres."""
+    return {
+        **LABELS,
+        **(TWO_FRONT_LABELS if layout.n_front > 1 else {}),
+        **(ONE_REAR_LABELS if layout.n_rear == 1 else {}),
+    }
+
+
+def labels(layout: Layout = DELTA) -> dict[str, tuple[str, str]]:
+    """Each figure's label and hint in the active language, for the layout's tyres."""
+    return {name: (_(label), _(hint)) for name, (label, hint) in _words(layout).items()}
 
 
 def page_fields(vehicle: FiguredVehicle) -> list[str]:
-    """The figures a vehicle's pages ask for and show, in order: a front track only for two front wheels."""
-    two_front_wheels = layout_named(vehicle.layout).n_front > 1
-    fields = [name for name in DYNAMICS_FIELDS if name != "front_track_m"]
-    return [*fields[:1], "front_track_m", *fields[1:]] if two_front_wheels else fields
+    """The figures a vehicle's pages ask for and show, in order: a front track only for two front wheels,
+    a rear track only for two rear wheels."""
+    layout = layout_named(vehicle.layout)
+    tracks = ["track_m"] * (layout.n_rear > 1) + ["front_track_m"] * (layout.n_front > 1)
+    return [*tracks, *(name for name in DYNAMICS_FIELDS if not name.endswith("track_m"))]
 
 
 def seat_input(index: int) -> str:
@@ -90,6 +113,16 @@ NOT_A_NUMBER = {
         "Enter the centre of pressure height (m) as a number, or leave it blank"
     ),
 }
+TWO_FRONT_NOT_A_NUMBER = {
+    "front_cornering_stiffness_n_per_rad": N_(
+        "Enter each front tyre's cornering stiffness (N/rad) as a number, or leave it blank"
+    ),
+}
+ONE_REAR_NOT_A_NUMBER = {
+    "rear_cornering_stiffness_n_per_rad": N_(
+        "Enter the rear tyre cornering stiffness (N/rad) as a number, or leave it blank"
+    ),
+}
 NOT_A_SEAT_HEIGHT = N_("Enter the seated height (m) as a number, or leave it blank")
 
 
@@ -102,8 +135,13 @@ class FiguresForm:
     figures: DynamicsFigures | None = None
 
 
-def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
+def read_figures_form(form: FormData, seat_count: int, layout: Layout = DELTA) -> FiguresForm:
     """Parse the form; a blank field is a figure not known."""
+    messages = {
+        **NOT_A_NUMBER,
+        **(TWO_FRONT_NOT_A_NUMBER if layout.n_front > 1 else {}),
+        **(ONE_REAR_NOT_A_NUMBER if layout.n_rear == 1 else {}),
+    }
     errors = FormErrors()
     names = [*DYNAMICS_FIELDS, *(seat_input(i) for i in range(seat_count))]
     values = {name: text(form, name, errors, limit=20) for name in names}
@@ -111,7 +149,7 @@ def read_figures_form(form: FormData, seat_count: int) -> FiguresForm:
     for name in names:
         parsed[name] = parse_decimal(values[name]) if values[name] else None
         if values[name] and parsed[name] is None and name not in errors.messages:
-            errors.add(name, _(NOT_A_NUMBER.get(name, NOT_A_SEAT_HEIGHT)))
+            errors.add(name, _(messages.get(name, NOT_A_SEAT_HEIGHT)))
     result = FiguresForm(values=values, errors=errors)
     if not errors:
         result.figures = DynamicsFigures(
@@ -155,7 +193,7 @@ def _page(
             "vehicle": vehicle,
             "values": values,
             "errors": errors.messages,
-            "labels": labels(),
+            "labels": labels(layout_named(vehicle.layout)),
             "track_fields": [name for name in page_fields(vehicle) if name.endswith("track_m")],
             "seat_hint": _(SEAT_HINT),
         },
@@ -178,10 +216,15 @@ def change_figures(
 ) -> Response:
     """Record the figures as a new revision (unchanged figures record nothing), or show the problems."""
     vehicle = _vehicle(session, registration_key)
-    parsed = read_figures_form(form, len(vehicle.seats))
+    parsed = read_figures_form(form, len(vehicle.seats), layout_named(vehicle.layout))
     if parsed.figures is not None:
         revisions = vehicle.dynamics_revisions
-        if parsed.figures == revision_figures(revisions[-1] if revisions else None):
+        current = revision_figures(revisions[-1] if revisions else None)
+        # A figure the page does not ask for (a tadpole's rear track, sent by the API) stays as recorded.
+        shown = page_fields(vehicle)
+        unasked = {name: getattr(current, name) for name in DYNAMICS_FIELDS if name not in shown}
+        parsed.figures = replace(parsed.figures, **unasked)
+        if parsed.figures == current:
             set_flash(session, login, _("The figures for the estimates are unchanged."))
             return RedirectResponse(f"/vehicles/{vehicle.registration_key}", status_code=303)
         try:
@@ -205,7 +248,8 @@ def figures_rows(vehicle: FiguredVehicle) -> dict[str, object]:
     revisions = vehicle.dynamics_revisions
     values = current_values(vehicle)
     fields = page_fields(vehicle)
-    rows = [(_(LABELS[name][0]), or_not_recorded(values[name])) for name in fields]
+    words = labels(layout_named(vehicle.layout))
+    rows = [(words[name][0], or_not_recorded(values[name])) for name in fields]
     heights = [str(or_not_recorded(values[seat_input(i)])) for i in range(len(vehicle.seats))]
     shown = NOT_RECORDED if all(h == NOT_RECORDED for h in heights) else ", ".join(heights)
     rows.insert(fields.index("wheel_radius_m") + 1, (_("Seated heights, driver first (m)"), shown))

@@ -8,6 +8,7 @@ from decimal import Decimal
 
 from app.i18n.active import N_
 from app.i18n.active import gettext as _
+from app.stability import DELTA, Layout
 from app.web.formatting import fixed
 
 SECTION_TITLE = N_("Beyond the static test (estimates, not part of the verdict)")
@@ -33,6 +34,13 @@ INPUT_WORDS = {
     "cg_height_m": N_("the centre of gravity height"),
     "load_items heights": N_("the heights of the load items"),
 }
+# Where a layout's tyres are not the delta's one front and two rear, the words above would name the
+# wrong ones: two front wheels are raised as an axle, one rear tyre is not "each".
+TWO_FRONT_INPUT_WORDS = {
+    "cg_lift or cg_height_m": N_("the centre of gravity height (a weighing with the front axle raised)"),
+    "front_cornering_stiffness_n_per_rad": N_("each front tyre's cornering stiffness"),
+}
+ONE_REAR_INPUT_WORDS = {"rear_cornering_stiffness_n_per_rad": N_("the rear tyre's cornering stiffness")}
 REVISION = N_("revision %(revision)s")
 NONE_ON_FILE = N_("None on file")
 NOT_RECORDED = N_("Not recorded")  # as every page words a gap (app/web/formatting.py)
@@ -54,20 +62,63 @@ def not_known() -> str:
     return _(UNKNOWN)
 
 
-def input_words(name: str) -> str:
+def input_words(name: str, layout: Layout = DELTA) -> str:
     """One missing input in words: 'the rear track', 'the seated height on passenger seat 1'."""
     seat = _SEAT.fullmatch(name)
     if seat:
         index = int(seat.group(1))
         return _(DRIVER_SEAT) if index == 0 else _(PASSENGER_SEAT) % {"seat": index}
-    return _(INPUT_WORDS[name]) if name in INPUT_WORDS else name
+    words = {
+        **INPUT_WORDS,
+        **(TWO_FRONT_INPUT_WORDS if layout.n_front > 1 else {}),
+        **(ONE_REAR_INPUT_WORDS if layout.n_rear == 1 else {}),
+    }
+    return _(words[name]) if name in words else name
 
 
-def missing_sentence(missing: Sequence[str]) -> str | None:
+def missing_sentence(missing: Sequence[str], layout: Layout = DELTA) -> str | None:
     """Which inputs are not recorded, so which figures are blank; None when nothing is missing."""
     if not missing:
         return None
-    return _(MISSING) % {"inputs": "; ".join(input_words(m) for m in missing)}
+    return _(MISSING) % {"inputs": "; ".join(input_words(m, layout) for m in missing)}
+
+
+# The map's caption. The delta's words are the study's; other layouts name their limit, and what load
+# moved rearward does to the rollover threshold differs (reference section 9).
+DELTA_MAP_CAPTION = N_(
+    "Each loading case at its LSF (across) and its estimated rollover threshold (up). Right of the dashed "
+    "line at 2/3 a case is yaw-unstable. Moving load rearward raises one and worsens the other."
+)
+DELTA_MAP_CAPTION_WITH_MINIMUM = N_(
+    "Each loading case at its LSF (across) and its estimated rollover threshold (up). Right of the dashed "
+    "line at 2/3 a case is yaw-unstable; below the dotted line at the minimum rollover threshold it tips "
+    "too easily. Moving load rearward raises one and worsens the other."
+)
+MAP_CAPTION = N_(
+    "Each loading case at its LSF (across) and its estimated rollover threshold (up). Right of the dashed "
+    "line at %(limit)s a case is yaw-unstable."
+)
+MAP_CAPTION_WITH_MINIMUM = N_(
+    "Each loading case at its LSF (across) and its estimated rollover threshold (up). Right of the dashed "
+    "line at %(limit)s a case is yaw-unstable; below the dotted line at the minimum rollover threshold it "
+    "tips too easily."
+)
+ONE_REAR_REARWARD = N_(
+    "Moving load rearward worsens both: with one rear wheel the rollover threshold falls as the LSF rises."
+)
+TWO_REAR_REARWARD = N_(
+    "Moving load rearward worsens the LSF; it raises the rollover threshold only as far as the rear track "
+    "is wider than the front track."
+)
+
+
+def map_caption(layout: Layout, *, with_minimum: bool) -> str:
+    """What the stability map shows, against the layout's limit, and what load moved rearward does."""
+    if layout == DELTA:  # the words the delta's pages have always had
+        return _(DELTA_MAP_CAPTION_WITH_MINIMUM if with_minimum else DELTA_MAP_CAPTION)
+    opening = _(MAP_CAPTION_WITH_MINIMUM if with_minimum else MAP_CAPTION) % {"limit": layout.limit_text}
+    rearward = ONE_REAR_REARWARD if layout.n_rear == 1 else TWO_REAR_REARWARD
+    return f"{opening} {_(rearward)}"
 
 
 def figure_text(value: float | Decimal | None, places: int, unit: str = "") -> str:

@@ -204,7 +204,7 @@ def read_inspection_form(form_data: FormData, vehicle: Vehicle) -> InspectionFor
         form.input_for[f"{prefix}.occupants"] = boxes[wheels[0]][0]
         measured.append(MeasuredCase(occupants, _readings(form, f"{prefix}.readings", boxes)))
 
-    cg_lift = read_lift(form)
+    cg_lift = read_lift(form, layout_named(vehicle.layout))
     if not form.errors and wheelbase is not None and mass is not None:
         form.request = InspectionRequest(
             registration_number=vehicle.registration_key,

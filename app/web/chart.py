@@ -1,10 +1,12 @@
 """The LSF chart of one inspection as inline SVG, drawn on the server (no script, no CDN).
 
-x: the loading cases; y: LSF; a line at 2/3 labelled "limit 2/3" with the region above it shaded
-"unstable"; compliant cases are circles marked C, non-compliant ones crosses marked NC.
+x: the loading cases; y: LSF; a line at the layout's limit labelled "limit 2/3" on a delta ("limit 1/3"
+on a tadpole) with the region above it shaded "unstable"; compliant cases are circles marked C,
+non-compliant ones crosses marked NC.
 
 The stability map (estimates) puts each case at (LSF, rollover threshold) with the same markers:
-the 2/3 line across, a regulator's minimum rollover threshold as a line when one is set.
+the layout's limit line (2/3 on a delta) up the map, a regulator's minimum rollover threshold as a
+line across when one is set.
 """
 
 from __future__ import annotations
@@ -23,11 +25,8 @@ from app.wording import verdict_mark
 WIDTH, HEIGHT = 480, 340
 LEFT, RIGHT, TOP, BOTTOM = 62, 86, 20, 60  # the right margin holds the label of the limit line
 STEP = 0.05
-LIMIT = float(LSF_LIMIT)
-LIMIT_TEXT = f"{LIMIT:.3f}"
 # Every label is at least this many units: 11.7 px where the 480-unit chart is 330 px wide (a 360 px phone).
 LABEL_SIZE = 17
-TITLE = "Lateral Stability Factor per loading case, against the 2/3 limit"
 
 
 @dataclass(frozen=True)
@@ -289,7 +288,7 @@ def before_after_chart(
 
 
 MAP_TITLE = "Stability map: each loading case's LSF against its rollover threshold"
-MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 66, 62  # the top margin holds the legend, then "limit 2/3"
+MAP_LEFT, MAP_RIGHT, MAP_TOP, MAP_BOTTOM = 62, 30, 66, 62  # the top margin: the legend, the limit's label
 MAP_X_STEP, MAP_Y_STEP = 0.05, 0.1
 
 
@@ -323,9 +322,17 @@ def map_range(values: Sequence[float], *, low: float, high: float, step: float) 
     return math.floor(round(least / step, 6)) * step, math.ceil(round(most / step, 6)) * step
 
 
-def map_geometry(points: Sequence[MapPoint], min_rollover_g: float | None) -> MapGeometry:
-    """Axes of about 0.55-0.8 (LSF) and 0.5-0.9 g, widened to hold every point and the minimum line."""
-    x_low, x_high = map_range([p.lsf for p in points], low=0.55, high=0.8, step=MAP_X_STEP)
+def map_geometry(
+    points: Sequence[MapPoint], min_rollover_g: float | None, limit: Fraction = LSF_LIMIT
+) -> MapGeometry:
+    """Axes of about 0.55-0.8 around the delta's 2/3 (0.2-0.5 around a tadpole's 1/3) and 0.5-0.9 g,
+    widened to hold every point and the minimum line."""
+    x_low, x_high = map_range(
+        [p.lsf for p in points],
+        low=float(limit - Fraction(7, 60)),
+        high=float(limit + Fraction(2, 15)),
+        step=MAP_X_STEP,
+    )
     thresholds = [p.rollover_g for p in points] + ([min_rollover_g] if min_rollover_g is not None else [])
     y_low, y_high = map_range(thresholds, low=0.5, high=0.9, step=MAP_Y_STEP)
 
@@ -347,13 +354,15 @@ def map_geometry(points: Sequence[MapPoint], min_rollover_g: float | None) -> Ma
     return MapGeometry(
         x_ticks=x_ticks,
         y_ticks=y_ticks,
-        limit_x=across(LIMIT),
+        limit_x=across(float(limit)),
         min_rollover=minimum,
         points=tuple((across(p.lsf), up(p.rollover_g), p) for p in points),
     )
 
 
-def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> str:
+def describe_map(
+    points: Sequence[MapPoint], min_rollover_g: float | None, limit: Fraction = LSF_LIMIT
+) -> str:
     """The map's text alternative: every case's LSF, threshold and verdict, and the lines."""
     cases = "; ".join(
         _("%(case)s: LSF %(lsf)s, rollover threshold %(threshold)s g, %(verdict)s")
@@ -374,8 +383,8 @@ def describe_map(points: Sequence[MapPoint], min_rollover_g: float | None) -> st
     )
     opening = _(
         "Each loading case's LSF (across) against its estimated rollover threshold (up). Right of the "
-        "2/3 line (%(limit)s) a case is yaw-unstable."
-    ) % {"limit": LIMIT_TEXT}
+        "%(fraction)s line (%(limit)s) a case is yaw-unstable."
+    ) % {"fraction": f"{limit.numerator}/{limit.denominator}", "limit": f"{float(limit):.3f}"}
     return f"{opening}{minimum} {cases}."
 
 
@@ -447,10 +456,16 @@ def place_labels(
 
 
 def stability_map(
-    points: Sequence[MapPoint], *, min_rollover_g: float | None = None, chart_id: str = "stability-map"
+    points: Sequence[MapPoint],
+    *,
+    min_rollover_g: float | None = None,
+    chart_id: str = "stability-map",
+    limit: Fraction = LSF_LIMIT,
+    rear_axle_words: str = "rear wheels",
 ) -> Markup:
-    """The stability map as an SVG element: the 2/3 line, a minimum rollover line when one is set."""
-    geometry = map_geometry(points, min_rollover_g)
+    """The stability map as an SVG element: the layout's limit line (2/3 on a delta), a minimum rollover
+    line when one is set; `rear_axle_words` names the LSF's wheels ("rear wheel" on a tadpole)."""
+    geometry = map_geometry(points, min_rollover_g, limit)
     plot_w, plot_h = WIDTH - MAP_LEFT - MAP_RIGHT, HEIGHT - MAP_TOP - MAP_BOTTOM
     right, bottom = MAP_LEFT + plot_w, MAP_TOP + plot_h
 
@@ -462,7 +477,7 @@ def stability_map(
 
     limit_x = x_of(geometry.limit_x)
     parts = [
-        _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g)),
+        _opening(chart_id, MAP_TITLE, describe_map(points, min_rollover_g, limit)),
         f'<rect class="chart__unstable" x="{limit_x:.1f}" y="{MAP_TOP}" '
         f'width="{right - limit_x:.1f}" height="{plot_h}" fill="#fbe3df"/>',
         _text(limit_x + 6, MAP_TOP + 20, "yaw-unstable", anchor="start", cls="chart__region"),
@@ -486,7 +501,9 @@ def stability_map(
         f'<line class="chart__limit" x1="{limit_x:.1f}" x2="{limit_x:.1f}" y1="{MAP_TOP}" '
         f'y2="{bottom}" stroke="#0b0c0c" stroke-width="2.5" stroke-dasharray="8 5"/>'
     )
-    parts.append(_text(limit_x, MAP_TOP - 6, "limit 2/3", cls="chart__limit-label"))
+    # The map's own labels are in English, as they always were (the text alternative is translated).
+    fraction = f"{limit.numerator}/{limit.denominator}"
+    parts.append(_text(limit_x, MAP_TOP - 6, f"limit {fraction}", cls="chart__limit-label"))
     if geometry.min_rollover is not None:
         min_y = y_of(geometry.min_rollover[0])
         parts.append(
@@ -526,7 +543,7 @@ def stability_map(
     parts.append(_text(MAP_LEFT + 22, 20, "C compliant", anchor="start"))
     parts.append(marker(MAP_LEFT + 150, 14, False))
     parts.append(_text(MAP_LEFT + 164, 20, "NC not compliant", anchor="start"))
-    parts.append(_text(MAP_LEFT + plot_w / 2, HEIGHT - 6, "LSF (share of weight on the rear wheels)"))
+    parts.append(_text(MAP_LEFT + plot_w / 2, HEIGHT - 6, f"LSF (share of weight on the {rear_axle_words})"))
     parts.append(
         f'<text x="16" y="{MAP_TOP + plot_h / 2:.1f}" text-anchor="middle" font-size="{LABEL_SIZE}" '
         f'transform="rotate(-90 16 {MAP_TOP + plot_h / 2:.1f})">Rollover threshold (g)</text>'

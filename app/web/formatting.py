@@ -15,7 +15,7 @@ from markupsafe import Markup, escape
 from app.config import get_settings
 from app.i18n.active import current_locale
 from app.i18n.locales import ENGLISH
-from app.stability import LAYOUTS, LSF_LIMIT
+from app.stability import DELTA, LAYOUTS, LSF_LIMIT, Layout
 
 
 def fixed(value: Decimal | Fraction | float, places: int) -> str:
@@ -84,6 +84,11 @@ def limit_text(layout: str = "delta") -> str:
     """The standard as the study prints it: 2/3 (0.667) for the delta, 1/3 (0.333) for a tadpole."""
     limit = LAYOUTS[layout].limit if layout in LAYOUTS else LSF_LIMIT
     return f"{limit.numerator}/{limit.denominator} ({ratio(limit)})"
+
+
+def axles_of(layout: str = "delta") -> Layout:
+    """A layout by name, for a page that words by its tyre counts (the delta when unknown)."""
+    return LAYOUTS.get(layout, DELTA)
 
 
 def layout_title(layout: str) -> str:

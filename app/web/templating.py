@@ -58,6 +58,7 @@ _env.globals.update(
     language_links=language_links,
     service_name=SERVICE_NAME,
     limit_text=formatting.limit_text,
+    axles_of=formatting.axles_of,
     case_name=case_name,
     verdict_mark=verdict_mark,
     rear_weight_heading=rear_weight_heading,
