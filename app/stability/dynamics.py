@@ -25,8 +25,8 @@ BOUNDS: dict[str, tuple[float, float, str]] = {
     "front_track_m": (0.0, 3.0, "front track"),
     "wheel_radius_m": (0.0, 1.0, "loaded rear wheel radius"),
     "cg_height_m": (0.0, 3.0, "centre of gravity height"),
-    "cg_lift.lift_height_m": (0.0, 2.0, "height the front wheel is raised"),
-    "cg_lift.front_kg": (0.0, 1500.0, "front wheel reaction with the wheel raised"),
+    "cg_lift.lift_height_m": (0.0, 2.0, "height the front axle is raised"),
+    "cg_lift.front_kg": (0.0, 1500.0, "front wheel(s) reaction with the front axle raised"),
     "front_cornering_stiffness_n_per_rad": (0.0, 1e6, "front tyre cornering stiffness"),
     "rear_cornering_stiffness_n_per_rad": (0.0, 1e6, "rear tyre cornering stiffness"),
     "drag_area_m2": (0.0, 20.0, "drag area (Cd x A)"),
@@ -68,7 +68,8 @@ class VehicleDynamics:
 
 @dataclass(frozen=True)
 class AxleLift:
-    """A second weighing with the front wheel raised by `lift_height_m`; `front_kg` read again."""
+    """A second weighing with the front axle raised by `lift_height_m`; `front_kg` (both front wheels
+    together on a tadpole or quadricycle) read again."""
 
     lift_height_m: float
     front_kg: float
@@ -203,16 +204,16 @@ def check_axle_lift(lift: AxleLift, *, wheelbase_m: float, front_level_kg: float
         raise StabilityError(
             "cg_lift.lift_height_m",
             "below_wheelbase",
-            f"cg_lift.lift_height_m: the front wheel can be raised by less than the wheelbase "
+            f"cg_lift.lift_height_m: the front axle can be raised by less than the wheelbase "
             f"({_g(wheelbase_m)} m); got {_g(lift.lift_height_m)} m",
         )
     if lift.front_kg >= front_level_kg:
         raise StabilityError(
             "cg_lift.front_kg",
             "less_than_level",
-            f"cg_lift.front_kg: with the front wheel raised it must carry less than level "
+            f"cg_lift.front_kg: with the front axle raised its wheel(s) must carry less than level "
             f"({_g(front_level_kg)} kg), since the CG lies above the wheel centres; "
-            f"got {_g(lift.front_kg)} kg. Weigh the raised wheel again",
+            f"got {_g(lift.front_kg)} kg. Weigh the raised wheel(s) again",
         )
 
 
