@@ -6,8 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from datetime import datetime
 
-from sqlalchemy import select
-from sqlalchemy.orm import Session
+from sqlalchemy import Select, func, select
+from sqlalchemy.orm import Session, aliased
 
 from app.certificates.models import Certificate
 from app.certificates.records import Status, certificate_status
@@ -31,6 +31,19 @@ def current_document(session: Session, vehicle_id: int, now: datetime | None = N
     if found is None:
         return None
     return Current(found, certificate_status(found, now), document_kind(found.kind))
+
+
+def in_force_of(vehicle_ids: Select[int]) -> Select[int, int]:
+    """For many vehicles at once (`vehicle_ids`, a query of ids): each one's document in force, or
+    lapsed, as `current_document` finds it, as rows of (vehicle_id, certificate_id)."""
+    newer = aliased(Certificate)
+    superseded = select(newer.supersedes_id).where(newer.supersedes_id.is_not(None))
+    return (
+        select(Certificate.vehicle_id, func.max(Certificate.id).label("certificate_id"))
+        .where(Certificate.vehicle_id.in_(vehicle_ids), Certificate.revocation == None)  # noqa: E711
+        .where(Certificate.id.not_in(superseded))
+        .group_by(Certificate.vehicle_id)
+    )
 
 
 def why_not_issuable(session: Session, inspection: Inspection, now: datetime | None = None) -> str | None:

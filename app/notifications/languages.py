@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from datetime import datetime
 
 from sqlalchemy import select
@@ -12,6 +13,7 @@ from app.i18n.locales import ENGLISH, LOCALES
 from app.notifications.contacts import digest
 from app.notifications.models import PhoneLanguage
 
+LOOKUP_BATCH = 10_000  # phones per query: well within SQLite's 32,766 and PostgreSQL's 65,535 bound values
 # USSD 4's numbers and the SMS words that name each language (LANG HA, HAUSA, ...).
 BY_NUMBER = {"1": "en", "2": "ha", "3": "yo", "4": "ig", "5": "pcm"}
 _WORDS = {
@@ -40,6 +42,22 @@ def chosen_language(session: Session, phone: str) -> str | None:
     """The language this phone chose, None when it chose none."""
     chosen = session.scalar(select(PhoneLanguage.language).where(PhoneLanguage.phone_digest == digest(phone)))
     return chosen if chosen in LOCALES else None
+
+
+def chosen_languages(session: Session, phones: Iterable[str]) -> dict[str, str]:
+    """The language each of these phones chose, by phone (those that chose none left out), in one
+    query per `LOOKUP_BATCH` phones (a statement's bound values are limited)."""
+    by_digest = {digest(phone): phone for phone in set(phones)}
+    keys = sorted(by_digest)
+    found: dict[str, str] = {}
+    for start in range(0, len(keys), LOOKUP_BATCH):
+        rows = session.execute(
+            select(PhoneLanguage.phone_digest, PhoneLanguage.language).where(
+                PhoneLanguage.phone_digest.in_(keys[start : start + LOOKUP_BATCH])
+            )
+        )
+        found.update({by_digest[key]: chosen for key, chosen in rows if chosen in LOCALES})
+    return found
 
 
 def phone_language(session: Session, phone: str) -> str:

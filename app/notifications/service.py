@@ -6,24 +6,37 @@ from __future__ import annotations
 import hashlib
 import hmac
 import secrets
+import typing
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any
 
-from sqlalchemy import delete, func, select, update
+from sqlalchemy import (
+    ColumnElement,
+    Select,
+    String,
+    Subquery,
+    Table,
+    cast,
+    delete,
+    func,
+    literal,
+    select,
+    update,
+)
 from sqlalchemy.dialects.postgresql import insert as pg_insert
 from sqlalchemy.dialects.sqlite import insert as sqlite_insert
-from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Load, Session
 
-from app.certificates.in_force import current_document
+from app.certificates.in_force import in_force_of
+from app.certificates.models import Certificate
 from app.config import Settings
 from app.db import utcnow
 from app.i18n.active import use_locale
 from app.i18n.locales import ENGLISH, LOCALES
 from app.notifications import messages
 from app.notifications.contacts import digest, mask
-from app.notifications.languages import chosen_language
+from app.notifications.languages import chosen_languages
 from app.notifications.models import GatewayCheck, NotificationDay, OutboxMessage, Subscription
 from app.vehicles.models import Vehicle
 from app.web.formatting import to_local
@@ -31,6 +44,10 @@ from app.web.formatting import to_local
 CODE_FAILURES = 5  # wrong codes before the pending subscription is dropped
 CODE_MINUTES = 30
 DAY = timedelta(days=1)
+REMINDER_STAGES = ("reminder_30", "reminder_7", "reminder_after")
+# The outbox as a table: its insert of many rows is one statement; the ORM's insert with RETURNING
+# and ON CONFLICT goes row by row.
+_OUTBOX = typing.cast(Table, OutboxMessage.__table__)
 
 
 class LimitReached(Exception):
@@ -71,6 +88,36 @@ def _sent_lately(session: Session, column: Any, value: str, now: datetime) -> in
     return int(session.scalar(query) or 0)
 
 
+def _outbox_row(
+    *,
+    channel: str,
+    recipient: str,
+    purpose: str,
+    text: messages.Text,
+    subscription_id: int | None,
+    dedupe_key: str | None,
+    requested_by: str | None = None,
+    unsubscribe_url: str | None = None,
+    now: datetime,
+) -> dict[str, Any]:
+    """An outbox row's columns: the recipient masked and digested beside it, due at once."""
+    return {
+        "subscription_id": subscription_id,
+        "channel": channel,
+        "purpose": purpose,
+        "recipient": recipient,
+        "recipient_masked": mask(channel, recipient),
+        "recipient_digest": digest(recipient),
+        "requested_by": requested_by,
+        "subject": text.subject,
+        "body": text.body,
+        "unsubscribe_url": unsubscribe_url,
+        "dedupe_key": dedupe_key,
+        "created_at": now,
+        "next_attempt_at": now,
+    }
+
+
 def enqueue(
     session: Session,
     *,
@@ -85,21 +132,18 @@ def enqueue(
     now: datetime | None = None,
 ) -> OutboxMessage:
     """Add a message to the outbox (the caller commits it with its decision)."""
-    message = OutboxMessage(
-        subscription_id=subscription.id if subscription is not None else None,
+    row = _outbox_row(
         channel=channel,
-        purpose=purpose,
         recipient=recipient,
-        recipient_masked=mask(channel, recipient),
-        recipient_digest=digest(recipient),
-        requested_by=requested_by,
-        subject=text.subject,
-        body=text.body,
-        unsubscribe_url=unsubscribe_url,
+        purpose=purpose,
+        text=text,
+        subscription_id=subscription.id if subscription is not None else None,
         dedupe_key=dedupe_key,
-        created_at=now or utcnow(),
-        next_attempt_at=now or utcnow(),
+        requested_by=requested_by,
+        unsubscribe_url=unsubscribe_url,
+        now=now or utcnow(),
     )
+    message = OutboxMessage(**row)
     session.add(message)
     return message
 
@@ -305,57 +349,108 @@ def stage_due(expires_at: datetime, now: datetime) -> str | None:
     return None
 
 
+def _due_pairs(now: datetime) -> Select[int, int]:
+    """Each confirmed subscription with its vehicle's document in force when that is a certificate (a
+    refusal triggers none) whose expiry puts a stage within reach now: (subscription_id, certificate_id).
+    The window is every stage's together (30 days before to 31 after); `stage_due` decides."""
+    confirmed = Subscription.confirmed_at.is_not(None)
+    in_force = in_force_of(select(Subscription.vehicle_id).where(confirmed)).subquery()
+    return (
+        select(Subscription.id.label("subscription_id"), Certificate.id.label("certificate_id"))
+        .join(in_force, in_force.c.vehicle_id == Subscription.vehicle_id)
+        .join(Certificate, Certificate.id == in_force.c.certificate_id)
+        .where(confirmed, Certificate.kind == "compliant")
+        .where(
+            Certificate.expires_at > now - timedelta(days=31),
+            Certificate.expires_at <= now + timedelta(days=30),
+        )
+    )
+
+
+def _keys_taken(session: Session, pairs: Subquery) -> set[str]:
+    """The reminder keys of these pairs the outbox already holds, any stage, in one query."""
+
+    def key(stage: str) -> ColumnElement[str]:
+        return (
+            literal(f"{stage}:")
+            + cast(pairs.c.subscription_id, String)
+            + ":"
+            + cast(pairs.c.certificate_id, String)
+        )
+
+    query = select(OutboxMessage.dedupe_key).join(
+        pairs, OutboxMessage.dedupe_key.in_([key(stage) for stage in REMINDER_STAGES])
+    )
+    return {found for found in session.scalars(query) if found is not None}
+
+
+def _write_new(session: Session, rows: list[dict[str, Any]]) -> int:
+    """Insert these outbox rows, skipping any whose key another worker wrote meanwhile; how many were
+    written (the statement is batched by SQLAlchemy, a thousand rows at a time)."""
+    dialect = session.get_bind().dialect.name
+    insert = pg_insert if dialect == "postgresql" else sqlite_insert
+    statement = insert(_OUTBOX).on_conflict_do_nothing(index_elements=["dedupe_key"]).returning(_OUTBOX.c.id)
+    return len(session.execute(statement, rows).all())
+
+
 def plan_reminders(session: Session, settings: Settings, now: datetime | None = None) -> int:
     """Write the reminders due now into the outbox, each at most once per subscription, certificate and
-    stage (two workers planning at once collide on that key; one wins). How many were written."""
+    stage (two workers planning at once collide on that key; one writes it). How many were written.
+
+    A few statements whatever the number of subscriptions: the pairs due, the keys already taken, the
+    phones' languages, one insert (each batched when there are thousands)."""
     now = now or utcnow()
-    written = 0
-    subscriptions = session.scalars(
-        select(Subscription).where(Subscription.confirmed_at.is_not(None)).order_by(Subscription.id)
+    pairs = _due_pairs(now).subquery()
+    found = session.execute(
+        select(Subscription, Certificate)
+        .join(pairs, pairs.c.subscription_id == Subscription.id)
+        .join(Certificate, Certificate.id == pairs.c.certificate_id)
+        .options(Load(Certificate).lazyload("*"))  # a reminder reads none of its relations
+        .order_by(Subscription.id)
     ).all()
-    for subscription in subscriptions:
-        current = current_document(session, subscription.vehicle_id, now)
-        if current is None or current.certificate.kind != "compliant":
-            continue  # nothing certified, or a refusal: no reminder
-        certificate = current.certificate
+    taken = _keys_taken(session, pairs) if found else set()
+    due: list[tuple[Subscription, Certificate, str, str]] = []
+    for subscription, certificate in found:
         stage = stage_due(certificate.expires_at, now)
         if stage is None:
             continue
         key = f"{stage}:{subscription.id}:{certificate.id}"
-        if key_taken(session, key):
-            continue
+        if key not in taken:
+            due.append((subscription, certificate, stage, key))
+    phones = [subscription.contact for subscription, *_rest in due if subscription.channel == "sms"]
+    chosen = chosen_languages(session, phones) if phones else {}
+    rows = []
+    for subscription, certificate, stage, key in due:
         unsubscribe_url = link(settings, "unsubscribe", subscription.token)
-        with use_locale(_language_of(session, subscription)):
+        with use_locale(_language_of(subscription, chosen)):
             if subscription.channel == "sms":
                 text = messages.reminder_sms(stage, certificate)
             else:
                 verify = f"{settings.base_url.rstrip('/')}/verify/{certificate.number}"
                 text = messages.reminder_email(stage, certificate, verify, unsubscribe_url)
-        try:
-            enqueue(
-                session,
+        rows.append(
+            _outbox_row(
                 channel=subscription.channel,
                 recipient=subscription.contact,
                 purpose=stage,
                 text=text,
-                subscription=subscription,
+                subscription_id=subscription.id,
                 dedupe_key=key,
                 unsubscribe_url=unsubscribe_url if subscription.channel == "email" else None,
                 now=now,
             )
-            session.commit()
-            written += 1
-        except IntegrityError:
-            session.rollback()
+        )
+    if not rows:
+        return 0
+    written = _write_new(session, rows)
+    session.commit()
     return written
 
 
-def _language_of(session: Session, subscription: Subscription) -> str:
+def _language_of(subscription: Subscription, chosen: dict[str, str]) -> str:
     """A reminder's language: a phone's latest choice (SMS LANG, USSD 4), else the one subscribed in."""
-    if subscription.channel == "sms":
-        chosen = chosen_language(session, subscription.contact)
-        if chosen is not None:
-            return chosen
+    if subscription.channel == "sms" and subscription.contact in chosen:
+        return chosen[subscription.contact]
     return subscription.language if subscription.language in LOCALES else ENGLISH
 
 

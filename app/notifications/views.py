@@ -56,20 +56,10 @@ def reminders_form(request: Request) -> Response:
 def reminders_subscribe(request: Request, session: SessionDep, form: FormDep) -> Response:
     """Send a confirmation link to the address; nothing else is sent before it is opened."""
     csrf.check_login_token(request, form)
-    errors = FormErrors()
-    email_text = text(form, "email", errors, limit=254)
+    errors = FormErrors()  # in the form's order: the summary lists them so
     plate = text(form, "plate", errors, limit=32)
+    email_text = text(form, "email", errors, limit=254)
     values = {"email": email_text, "plate": plate}
-    email = ""
-    if not email_text and "email" not in errors.messages:
-        errors.add("email", _("Enter your email address"))
-    elif email_text:
-        try:
-            email = normalise_email(email_text)
-        except ContactRefused as refused:
-            errors.add(
-                "email", _("Enter an email address like name@example.com: %(reason)s") % {"reason": refused}
-            )
     vehicle = None
     if not plate and "plate" not in errors.messages:
         errors.add("plate", _("Enter the plate, like BDG 252 QH"))
@@ -81,6 +71,14 @@ def reminders_subscribe(request: Request, session: SessionDep, form: FormDep) ->
                 _("No keke %(plate)s is registered: check the plate")
                 % {"plate": display_registration(plate)},
             )
+    email = ""
+    if not email_text and "email" not in errors.messages:
+        errors.add("email", _("Enter your email address"))
+    elif email_text:
+        try:
+            email = normalise_email(email_text)
+        except ContactRefused:  # its reason is in English, and says no more than this
+            errors.add("email", _("Enter an email address like name@example.com"))
     if errors or vehicle is None:
         return _form(request, values, errors, status_code=422)
     client = request.client.host if request.client else ""

@@ -142,6 +142,17 @@ def axe_violations(page: Page, script: Path) -> list[dict[str, Any]]:
     ]
 
 
+def save_at_both_widths(page: Page, folder: Path, name: str) -> None:
+    """The page as it stands, full length, saved as folder/NAME-1280.png and folder/NAME-360.png; the
+    viewport is put back to 1280 px."""
+    folder.mkdir(parents=True, exist_ok=True)
+    page.set_viewport_size({"width": 1280, "height": 900})
+    page.screenshot(path=str(folder / f"{name}-1280.png"), full_page=True)
+    page.set_viewport_size({"width": 360, "height": 740})
+    page.screenshot(path=str(folder / f"{name}-360.png"), full_page=True)
+    page.set_viewport_size({"width": 1280, "height": 900})
+
+
 def weigh_study_fleet(session: Session, *, model: str = "RE", suffix: str = "") -> dict[str, int]:
     """The reference's section 7: three vehicles of the study's model weighed with its readings.
 
