@@ -21,6 +21,7 @@ from app.certificates.bundle_answer import bundle_response
 from app.certificates.trust_bundle import BUNDLE_MARK, held_bundle, is_bundle_kept
 from app.certificates.verify_json import accepts_json
 from app.config import get_settings
+from app.web.scope import header
 
 BUNDLE_PATH = "/.well-known/trikecert-trust"
 PAGE_PREFIX = "/verify/"
@@ -40,19 +41,12 @@ def door_of(scope: Scope) -> tuple[str, str] | None:
     elif path.startswith(PAGE_PREFIX):
         number = path[len(PAGE_PREFIX) :]
         bound = PAGE_NUMBER_MAX
-        kind = "verify-json" if accepts_json(_header(scope, b"accept")) else "verify-html"
+        kind = "verify-json" if accepts_json(header(scope, b"accept") or "") else "verify-html"
     else:
         return None
     if not number or len(number) > bound or "/" in number:
         return None
     return kind, number
-
-
-def _header(scope: Scope, name: bytes) -> str:
-    for key, value in scope["headers"]:
-        if key == name:
-            return str(value.decode("latin-1"))
-    return ""
 
 
 class KeptAnswersFirst:
@@ -94,8 +88,8 @@ class KeptAnswersFirst:
             await self.app(scope, receive, send)
             return
         scope["endpoint"] = self.endpoints["bundle"]
-        if_none_match = _header(scope, b"if-none-match") or None
-        answer = bundle_response(held, _header(scope, b"accept-encoding"), if_none_match)
+        if_none_match = header(scope, b"if-none-match")
+        answer = bundle_response(held, header(scope, b"accept-encoding") or "", if_none_match)
         await answer(scope, receive, send)
 
 

@@ -16,6 +16,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from app.i18n.active import current_locale, use_locale
 from app.i18n.locales import ENGLISH, HTML_LANG, LOCALES, NATIVE_NAMES, known_locale, negotiate
 from app.web.cookies import is_secure
+from app.web.scope import header
 
 LANGUAGE_COOKIE = "trikecert_lang"
 ONE_YEAR = 365 * 24 * 3600
@@ -25,18 +26,11 @@ VARY = ("Accept-Language", "Cookie")
 language_router = APIRouter(include_in_schema=False)
 
 
-def _header(scope: Scope, name: bytes) -> str | None:
-    for key, value in scope.get("headers", ()):
-        if key == name:
-            return str(value.decode("latin-1"))
-    return None
-
-
 def request_locale(scope: Scope) -> str:
     """The locale for a request: English on the API, else the cookie's, else Accept-Language's."""
     if scope.get("path", "").startswith("/api/"):
         return ENGLISH
-    cookie_header = _header(scope, b"cookie")
+    cookie_header = header(scope, b"cookie")
     if cookie_header:
         try:
             morsel = SimpleCookie(cookie_header).get(LANGUAGE_COOKIE)
@@ -45,7 +39,7 @@ def request_locale(scope: Scope) -> str:
         chosen = known_locale(morsel.value) if morsel is not None else None
         if chosen is not None:
             return chosen
-    return negotiate(_header(scope, b"accept-language"))
+    return negotiate(header(scope, b"accept-language"))
 
 
 class LanguageMiddleware:
