@@ -265,8 +265,9 @@ def _same_file_every_checkout(engine: Engine, path: str) -> None:
             raise exc.DisconnectionError(f"the database file {path} was moved, replaced or removed")
 
 
-def make_engine(url: str) -> Engine:
-    """An engine for the URL; SQLite gets WAL, foreign keys, a busy timeout and a single-writer path."""
+def make_engine(url: str, *, autocommit: bool = False) -> Engine:
+    """An engine for the URL; SQLite gets WAL, foreign keys, a busy timeout and a single-writer path.
+    `autocommit`: PostgreSQL runs each statement as its own transaction (one round trip for a read)."""
     if url.startswith("sqlite"):
         settings = get_settings()
         in_memory = make_url(url).database in (None, "", ":memory:")
@@ -293,7 +294,10 @@ def make_engine(url: str) -> Engine:
             _same_file_every_checkout(engine, str(make_url(url).database))
         return engine
     settings = get_settings()
-    engine = create_engine(url, pool_size=settings.db_pool_size, max_overflow=settings.db_max_overflow)
+    isolation = {"isolation_level": "AUTOCOMMIT"} if autocommit else {}
+    engine = create_engine(
+        url, pool_size=settings.db_pool_size, max_overflow=settings.db_max_overflow, **isolation
+    )
     _still_open_at_checkout(engine)
     return engine
 

@@ -5,8 +5,9 @@ The statement is compiled once per database and run on a pooled DBAPI connection
 the ORM's result processing: a mark is only ever compared with a mark read the same way. On SQLite the
 read runs in the event loop (a WAL read of a local file never waits for a writer, and a trip through
 the thread pool cost several times the read), on an engine of the event loops' own: the requests'
-pool may be taken by routes whose sessions close in the loop, which must not wait for them. Elsewhere
-the read goes through the thread pool, so a database that stalls stalls no other request.
+pool may be taken by routes whose sessions close in the loop, which must not wait for them. On
+PostgreSQL the read goes through the thread pool, so a database that stalls stalls no other request,
+on an engine of its own in autocommit: one round trip, no BEGIN and COMMIT around it.
 """
 
 from __future__ import annotations
@@ -40,8 +41,8 @@ class MarkQuery:
         return sql
 
     def read(self, engine: Engine | None = None) -> Mark:
-        """The mark now (blocking), on the requests' engine unless another is given."""
-        engine = engine or get_engine()
+        """The mark now (blocking), on the marks' engine unless another is given."""
+        engine = engine or _marks_engine(get_settings().database_url)
         sql = self._sql_for(str(engine.url), engine.dialect)
         connection = engine.raw_connection()
         try:
@@ -69,3 +70,13 @@ class MarkQuery:
 def _event_loop_engine(url: str) -> Engine:
     """SQLite: the engine the event loops read marks on (a loop reads one at a time, never waiting)."""
     return make_engine(url)
+
+
+def _marks_engine(url: str) -> Engine:
+    """The engine a blocking read uses: the requests' own on SQLite, else one in autocommit."""
+    return get_engine() if url.startswith("sqlite") else _autocommit_engine(url)
+
+
+@lru_cache(maxsize=8)
+def _autocommit_engine(url: str) -> Engine:
+    return make_engine(url, autocommit=True)
