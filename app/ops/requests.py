@@ -6,17 +6,17 @@ import atexit
 import json
 import logging
 import os
-import queue
 import random
 import re
-import sys
 import time
 from functools import lru_cache
-from logging.handlers import QueueHandler, QueueListener
-from typing import Any, TextIO
+from logging.handlers import QueueHandler
+from typing import Any
 
 from prometheus_client import Counter, Histogram
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from app.ops.log_writer import BatchWriter
 
 REQUEST_ID_HEADER = b"x-request-id"
 _VALID_ID = re.compile(rb"^[A-Za-z0-9._-]{1,64}$")
@@ -55,44 +55,27 @@ class JsonFormatter(logging.Formatter):
 
 
 class _HandOver(QueueHandler):
-    """Queue the record as it is: the log thread formats and writes it, off the request's path."""
+    """Queue the record as it is: the log writer formats and writes it, off the request's path."""
 
     def prepare(self, record: logging.LogRecord) -> logging.LogRecord:
         """The record itself (a thread's queue needs no pickling, so nothing is formatted here)."""
         return record
 
 
-class _StandardError(logging.StreamHandler[TextIO]):
-    """Writes each line to the standard error of the moment it is written.
-
-    The log thread outlives whoever set it up: a stream held from then may since have been replaced
-    and closed (pytest's capture of one test, say), and writing to it fails.
-    """
-
-    def emit(self, record: logging.LogRecord) -> None:
-        """Write the record to the current standard error."""
-        self.stream = sys.stderr
-        super().emit(record)
-
-
-_writer: QueueListener | None = None
+_writer: BatchWriter | None = None
 
 
 def configure_logging(level: int = logging.INFO) -> None:
     """Send the app's logs to standard error as JSON lines, written by a thread of their own.
 
-    A request only queues its line; one listener thread per process formats and writes them (and
-    writes what is left when the process exits).
+    A request only queues its line; one writer thread per process formats and writes them, a batch
+    at a time (app/ops/log_writer.py), and writes what is left when the process exits.
     """
     global _writer
-    handler = _StandardError()
-    handler.setFormatter(JsonFormatter())
     if _writer is None:
-        _writer = QueueListener(queue.SimpleQueue(), handler)
+        _writer = BatchWriter(JsonFormatter())
         _writer.start()
         atexit.register(_writer.stop)
-    else:
-        _writer.handlers = (handler,)
     root = logging.getLogger("trikecert")
     root.handlers[:] = [_HandOver(_writer.queue)]
     root.setLevel(level)
@@ -100,10 +83,9 @@ def configure_logging(level: int = logging.INFO) -> None:
 
 
 def flush_logs() -> None:
-    """Wait until every line queued so far is written (the log thread is stopped and started again)."""
+    """Write every line queued so far, now."""
     if _writer is not None:
-        _writer.stop()
-        _writer.start()
+        _writer.flush()
 
 
 # New request ids: 128 random bits from a generator of this process's own, seeded from the system's
