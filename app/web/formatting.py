@@ -13,7 +13,7 @@ from babel.dates import format_date
 from markupsafe import Markup, escape
 
 from app.config import get_settings
-from app.i18n.active import current_locale
+from app.i18n.active import N_, current_locale, gettext
 from app.i18n.locales import ENGLISH
 from app.stability import LAYOUTS, LSF_LIMIT
 
@@ -55,12 +55,17 @@ def signed(value: Decimal | Fraction | float) -> str:
     return text if text.startswith("-") else f"+{text}"
 
 
-NOT_RECORDED = "Not recorded"
+NOT_RECORDED = N_("Not recorded")  # English on a document's frozen facts; translated on a page
+
+
+def not_recorded() -> str:
+    """'Not recorded', in the active language: how every page words a gap."""
+    return gettext(NOT_RECORDED)
 
 
 def or_not_recorded(value: object) -> object:
-    """A recorded value as it is, or 'Not recorded' for one left empty: every page words a gap so."""
-    return NOT_RECORDED if value is None or value == "" else value
+    """A recorded value as it is, or 'Not recorded' (in the page's language) for one left empty."""
+    return not_recorded() if value is None or value == "" else value
 
 
 def unbroken(text: str) -> str:
@@ -86,9 +91,18 @@ def limit_text(layout: str = "delta") -> str:
     return f"{limit.numerator}/{limit.denominator} ({ratio(limit)})"
 
 
+# Each layout's title (the core's Layout.title, which speaks English only), to be translated.
+_LAYOUT_TITLES = {
+    "delta": N_("Delta (one front wheel and two rear wheels)"),
+    "tadpole": N_("Tadpole (two front wheels and one rear wheel)"),
+    "quadricycle": N_("Quadricycle (two front wheels and two rear wheels)"),
+}
+
+
 def layout_title(layout: str) -> str:
-    """A layout's name for a person: "Tadpole (two front wheels and one rear wheel)"."""
-    return LAYOUTS[layout].title
+    """A layout's name for a person, in the active language: "Tadpole (two front wheels and one rear ...)"."""
+    title = _LAYOUT_TITLES.get(layout)
+    return gettext(title) if title is not None else LAYOUTS[layout].title
 
 
 @lru_cache

@@ -65,7 +65,7 @@ _env.globals.update(
     chart_caption=chart_caption,
     wheel_rows=wheel_rows,
     layout_of=layout_of,
-    not_recorded=formatting.NOT_RECORDED,
+    not_recorded=formatting.not_recorded,
 )
 templates = Jinja2Templates(env=_env)
 
