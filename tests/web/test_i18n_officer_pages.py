@@ -355,3 +355,29 @@ def test_a_vehicle_page_words_a_gap_in_the_chosen_language(
     gap = {"ha": "Ba a rubuta ba", "yo": "A kò kọ ọ́ sílẹ̀", "ig": "Edebeghị ya", "pcm": "Dem no record am"}
     assert gap[language] in text
     assert "Not recorded" not in text
+
+
+SERVICE_NAMES = {
+    "ha": "Takardar shaidar daidaiton Keke",
+    "yo": "Ìwé-ẹ̀rí ìdúróṣinṣin Keke",
+    "ig": "Asambodo nkwụsi ike Keke",
+    "pcm": "Certificate for how Keke stand well",
+}
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+@pytest.mark.parametrize("path", ["/", "/verify", "/check/"])
+def test_the_header_names_the_service_in_the_chosen_language(
+    admin_web: TestClient, path: str, language: str
+) -> None:
+    assert "Keke stability certification" in admin_web.get(path).text
+
+    admin_web.cookies.set("trikecert_lang", language)
+    page = admin_web.get(path).text
+    header = re.search(r'class="header__service">(.*?)</', page, re.S)
+    assert header is not None
+    assert html.unescape(header[1]).strip() == SERVICE_NAMES[language]
+    title = re.search(r"<title>(.*?)</title>", page, re.S)
+    assert title is not None
+    assert html.unescape(title[1]).endswith(f" – {SERVICE_NAMES[language]}")
+    assert "Keke stability certification" not in page
