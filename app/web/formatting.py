@@ -9,7 +9,7 @@ from fractions import Fraction
 from functools import lru_cache
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
-from babel.dates import format_date
+from babel.dates import format_date, get_month_names
 from markupsafe import Markup, escape
 
 from app.config import get_settings
@@ -140,6 +140,16 @@ def long_date(moment: datetime | date) -> str:
         return f"{local.day} {local:%B %Y}"
     # The same order in every language (1 Disamba 2027), the month's name from CLDR.
     return format_date(local if not isinstance(local, datetime) else local.date(), "d MMMM y", locale=locale)
+
+
+def month_names() -> list[str]:
+    """The twelve months as long_date names them in the active language (January ... December, from
+    CLDR outside English): the offline checker writes its dates with them, whatever its browser knows."""
+    locale = current_locale()
+    if locale == ENGLISH:
+        return [f"{date(2000, month, 1):%B}" for month in range(1, 13)]
+    names = get_month_names("wide", "format", locale=locale)
+    return [names[month] for month in range(1, 13)]
 
 
 def day_bounds(day: date) -> tuple[datetime, datetime]:
