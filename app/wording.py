@@ -222,13 +222,29 @@ def _position(x_m: Decimal) -> str:
     places = max(2, -int(x_m.normalize().as_tuple().exponent))
     distance = f"{abs(x_m):.{places}f} m"
     if x_m == 0:
-        return "over the front wheel"
-    return f"{distance} {'behind' if x_m > 0 else 'ahead of'} the front wheel"
+        return _("over the front wheel")
+    if x_m > 0:
+        return _("%(distance)s behind the front wheel") % {"distance": distance}
+    return _("%(distance)s ahead of the front wheel") % {"distance": distance}
 
 
 def _case_left(occupants: int) -> str:
     """A loading case a remedy leaves unfixed: 'the empty vehicle', 'the driver alone'."""
-    return "the empty vehicle" if occupants == 0 else f"the vehicle with {occupancy(occupants)}"
+    if occupants == 0:
+        return _("the empty vehicle")
+    return _("the vehicle with %(occupancy)s") % {"occupancy": occupancy(occupants)}
+
+
+def _carry_no_more(occupants: int) -> str:
+    """The remedy of carrying fewer: 'carry no more than the driver and 2 passengers'."""
+    if occupants <= 1:
+        return _("carry no more than the driver")
+    count = occupants - 1
+    return ngettext(
+        "carry no more than the driver and one passenger",
+        "carry no more than the driver and %(count)s passengers",
+        count,
+    ) % {"count": count}
 
 
 def remedy_options(advice: Advice) -> list[str]:
@@ -238,19 +254,27 @@ def remedy_options(advice: Advice) -> list[str]:
     options = []
     best = advice.max_compliant_occupants
     if 1 <= best < advice.target_occupants:
-        limit = "the driver" if best == 1 else f"the driver and {passengers(best - 1)}"
-        options.append(f"carry no more than {limit}")
+        options.append(_carry_no_more(best))
     if advice.ballast_kg is not None:
-        options.append(f"fit more than {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}")
+        options.append(
+            _("fit more than %(mass)s kg of ballast %(position)s")
+            % {"mass": advice.ballast_kg, "position": _position(advice.ballast_x_m)}
+        )
     if advice.seat_shift_m is not None:
-        option = f"move the rear bench {advice.seat_shift_m} m forward"
+        option = _("move the rear bench %(distance)s m forward") % {"distance": advice.seat_shift_m}
         if advice.seat_shift_unfixable:
-            left = " and ".join(_case_left(n) for n in advice.seat_shift_unfixable)
-            option += f", which still leaves {left} non-compliant"
+            left = _case_left(advice.seat_shift_unfixable[0])
+            for occupants in advice.seat_shift_unfixable[1:]:
+                left = _("%(these)s and %(those)s") % {"these": left, "those": _case_left(occupants)}
+            option = _("%(remedy)s, which still leaves %(cases)s non-compliant") % {
+                "remedy": option,
+                "cases": left,
+            }
         options.append(option)
     if advice.tyre_ratio is not None:
         options.append(
-            f"fit rear tyres at least {advice.tyre_ratio} times as stiff in cornering as the front"
+            _("fit rear tyres at least %(ratio)s times as stiff in cornering as the front")
+            % {"ratio": advice.tyre_ratio}
         )
     return options
 
@@ -258,23 +282,34 @@ def remedy_options(advice: Advice) -> list[str]:
 def remedies_sentence(advice: Advice) -> str:
     """The remedies in one sentence: 'Carry no more than the driver; or fit more than 54.64 kg of ...'."""
     if advice.compliant:
-        return f"Nothing: every loading case up to {occupancy(advice.target_occupants)} already complies."
-    text = "; or ".join(remedy_options(advice))
-    sentence = f"{text[:1].upper()}{text[1:]}." if text else ""
+        return _("Nothing: every loading case up to %(occupancy)s already complies.") % {
+            "occupancy": occupancy(advice.target_occupants)
+        }
+    options = remedy_options(advice)
+    sentence = ""
+    if options:
+        text = options[0]
+        for option in options[1:]:
+            text = _("%(these)s; or %(those)s") % {"these": text, "those": option}
+        sentence = f"{text[:1].upper()}{text[1:]}."
     if not advice.ballast_possible:
-        sentence += (
-            f" Ballast {_position(advice.ballast_x_m)} cannot help: it must sit less than two thirds of the "
-            "wheelbase behind the front wheel."
-        )
+        cannot = _(
+            "Ballast %(position)s cannot help: it must sit less than two thirds of the wheelbase behind "
+            "the front wheel."
+        ) % {"position": _position(advice.ballast_x_m)}
+        sentence = f"{sentence} {cannot}"
     return sentence.strip()
 
 
 def remedy_applied(advice: Advice, remedy: str) -> str | None:
     """One advised remedy as done: 'after fitting 54.64 kg of ballast 0.30 m behind the front wheel'."""
     if remedy == "ballast" and advice.ballast_kg is not None:
-        return f"after fitting {advice.ballast_kg} kg of ballast {_position(advice.ballast_x_m)}"
+        return _("after fitting %(mass)s kg of ballast %(position)s") % {
+            "mass": advice.ballast_kg,
+            "position": _position(advice.ballast_x_m),
+        }
     if remedy == "seat_shift" and advice.seat_shift_m is not None:
-        return f"after moving the rear bench {advice.seat_shift_m} m forward"
+        return _("after moving the rear bench %(distance)s m forward") % {"distance": advice.seat_shift_m}
     return None
 
 

@@ -10,11 +10,13 @@ from sqlalchemy.orm import Session
 
 from app.accounts.models import User
 from app.errors import ServiceError
+from app.i18n.active import N_, gettext
 from app.inspections.models import Inspection
 from app.stations.models import Station
-from app.web.formatting import NOT_RECORDED
+from app.web.formatting import NOT_RECORDED, not_recorded
 
-COMMAND_LINE = "an administrator at the server (command line)"
+# English on a document's frozen facts (the binding text); translated where a page shows who acted.
+COMMAND_LINE = N_("an administrator at the server (command line)")
 
 
 class Forbidden(ServiceError):
@@ -64,25 +66,31 @@ def station_shown_as(station: Station | str) -> str:
     return f"{station if isinstance(station, str) else station.name}, weighbridge station"
 
 
+def _station_on_page(station: Station) -> str:
+    """A station as a page names it, in the page's language: 'Ikeja weighbridge, weighbridge station'."""
+    return gettext("%(name)s, weighbridge station") % {"name": station.name}
+
+
 def officer_of(session: Session, inspection: Inspection) -> User | None:
     """The officer who recorded the weighing, if one did."""
     return session.get(User, inspection.user_id) if inspection.user_id is not None else None
 
 
 def recorded_by(session: Session, inspection: Inspection) -> str:
-    """Who recorded a weighing: the officer by name and badge, else the station that submitted it."""
+    """Who recorded a weighing, on a page: the officer by name and badge, else the station that
+    submitted it (in the page's language)."""
     officer = officer_of(session, inspection)
     if officer is not None:
         return officer.shown_as()
     if inspection.station is not None:
-        return station_shown_as(inspection.station)
-    return NOT_RECORDED
+        return _station_on_page(inspection.station)
+    return not_recorded()
 
 
 def issued_by(session: Session, *, user_id: int | None, station_id: int | None, label: str) -> str:
-    """Who issued a document, from what its row keeps (the issuer's ids and audit label)."""
+    """Who issued a document, on a page, from what its row keeps (the issuer's ids and audit label)."""
     if user_id is not None and (user := session.get(User, user_id)) is not None:
         return user.shown_as()
     if station_id is not None and (station := session.get(Station, station_id)) is not None:
-        return station_shown_as(station)
-    return COMMAND_LINE if label.startswith("cli:") else NOT_RECORDED
+        return _station_on_page(station)
+    return gettext(COMMAND_LINE) if label.startswith("cli:") else not_recorded()

@@ -24,6 +24,7 @@ from app.i18n.active import N_
 from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.web.deps import FormDep, SessionDep
+from app.web.formatting import not_recorded
 from app.web.forms import FormErrors, text
 from app.web.templating import render
 from app.wording import document_kind, issued_message, revoked_message
@@ -62,7 +63,7 @@ def people_of(session: Session, certificate: Certificate, facts: Facts) -> list[
     return [
         (N_("Weighing recorded by"), recorded_by(session, inspection)),
         (N_("Issued by"), issuer),
-        (N_("Scale calibration"), facts.calibration),
+        (N_("Scale calibration"), facts.inspection.scale_calibration or not_recorded()),
     ]
 
 

@@ -79,7 +79,6 @@ def check_page(request: Request) -> Response:
         {
             "words": checker_words(),
             "issuing_authority": settings.issuing_authority,
-            "service_name": SERVICE_NAME,
             "version": version(),
             "files": [f"/check/static/{name}" for name in static_files() if not name.endswith(".LICENSE")],
         },

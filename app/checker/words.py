@@ -8,7 +8,7 @@ from typing import Any
 
 from app.config import get_settings
 from app.trust.offline import checked_against, words_table
-from app.web.formatting import long_date, to_local
+from app.web.formatting import long_date, month_names, to_local
 from app.wording import document_title, occupancy_sentence, status_headline_on
 
 MAX_OCCUPANTS = 100  # a payload's occupancy is a whole number below 100 (app/trust/cwt.py)
@@ -37,4 +37,6 @@ def checker_words() -> dict[str, Any]:
         },
         "titles": {"certificate": document_title("compliant"), "refusal": document_title("refusal")},
         "checked_against": {"prefix": _checked_prefix(), "time_zone": get_settings().display_timezone},
+        # The months as the pages name them: a phone's Intl may not know the page's language.
+        "months": month_names(),
     }

@@ -26,7 +26,7 @@ from app.accounts.models import UserSession
 from app.accounts.sessions import set_flash
 from app.config import Settings, get_settings
 from app.errors import ServiceError
-from app.i18n.active import N_
+from app.i18n.active import N_, ngettext
 from app.i18n.active import gettext as _
 from app.ids import StationId
 from app.stations.details import MAX_CAPACITY_KG, StationDetails
@@ -384,93 +384,152 @@ class SettingRow:
 
 
 # Only these are shown, by name: a setting added later (a secret, say) never appears by accident.
+# The label and meaning are marked here and translated when the page is drawn.
 SHOWN_SETTINGS: tuple[tuple[str, str, str, str], ...] = (
-    ("occupant_mass_kg", "Occupant mass", "kg", "The mass of each occupant added in the loading cases."),
+    (
+        "occupant_mass_kg",
+        N_("Occupant mass"),
+        "kg",
+        N_("The mass of each occupant added in the loading cases."),
+    ),
     (
         "sum_tolerance",
-        "Sum tolerance",
+        N_("Sum tolerance"),
         "ratio",
-        "How far the three wheel readings may disagree with the overall weight.",
+        N_("How far the three wheel readings may disagree with the overall weight."),
     ),
     (
         "max_reading_spread_kg",
-        "Largest spread of repeated readings",
+        N_("Largest spread of repeated readings"),
         "kg",
-        "Repeated readings of one wheel that spread more (or more than one scale division) are refused.",
+        N_("Repeated readings of one wheel that spread more (or more than one scale division) are refused."),
     ),
     (
         "require_calibration",
-        "Calibration required",
+        N_("Calibration required"),
         "bool",
-        "Whether a station with no calibration on record is refused, and no certificate or refusal "
-        "is issued for a weighing without one.",
+        N_(
+            "Whether a station with no calibration on record is refused, and no certificate or refusal "
+            "is issued for a weighing without one."
+        ),
     ),
     (
         "certificate_validity_months",
-        "Certificate validity",
+        N_("Certificate validity"),
         "months",
-        "How long a Lateral Stability Certificate is valid.",
+        N_("How long a Lateral Stability Certificate is valid."),
     ),
-    ("station_rate_limit", "Station rate limit", "requests", "Requests per station key per window (0: off)."),
-    ("station_rate_window_seconds", "Rate limit window", "seconds", "The window of the station rate limit."),
-    ("session_idle_minutes", "Session idle timeout", "minutes", "An officer is signed out after this idle."),
+    (
+        "station_rate_limit",
+        N_("Station rate limit"),
+        "requests",
+        N_("Requests per station key per window (0: off)."),
+    ),
+    (
+        "station_rate_window_seconds",
+        N_("Rate limit window"),
+        "seconds",
+        N_("The window of the station rate limit."),
+    ),
+    (
+        "session_idle_minutes",
+        N_("Session idle timeout"),
+        "minutes",
+        N_("An officer is signed out after this idle."),
+    ),
     (
         "session_absolute_hours",
-        "Session absolute timeout",
+        N_("Session absolute timeout"),
         "hours",
-        "An officer is signed out this long after signing in, however active.",
+        N_("An officer is signed out this long after signing in, however active."),
     ),
     (
         "login_max_failures",
-        "Failed sign-ins before lock-out",
+        N_("Failed sign-ins before lock-out"),
         "count",
-        "Failed sign-ins for one email before sign-in is refused.",
+        N_("Failed sign-ins for one email before sign-in is refused."),
     ),
-    ("login_lockout_minutes", "Lock-out period", "minutes", "How long failed sign-ins are counted and held."),
+    (
+        "login_lockout_minutes",
+        N_("Lock-out period"),
+        "minutes",
+        N_("How long failed sign-ins are counted and held."),
+    ),
     (
         "idempotency_key_hours",
-        "Idempotency keys kept",
+        N_("Idempotency keys kept"),
         "hours",
-        "How long a station's Idempotency-Key replays its first answer.",
+        N_("How long a station's Idempotency-Key replays its first answer."),
     ),
-    ("display_timezone", "Display time zone", "text", "Times on the pages, and “today”, are in this zone."),
+    (
+        "display_timezone",
+        N_("Display time zone"),
+        "text",
+        N_("Times on the pages, and “today”, are in this zone."),
+    ),
     (
         "mfa",
-        "Second factor at sign-in",
+        N_("Second factor at sign-in"),
         "text",
-        "“required”: every officer signs in with a code from an authenticator app as well as the password; "
-        "“optional”: only those who set one up. Unset, it is required in production.",
+        # Translators: “required” and “optional” are the values typed in the environment: keep them.
+        N_(
+            "“required”: every officer signs in with a code from an authenticator app as well as the "
+            "password; “optional”: only those who set one up. Unset, it is required in production."
+        ),
     ),
     (
         "base_url",
-        "Public address",
+        N_("Public address"),
         "text",
-        "Printed on every certificate and in its QR code: where anyone checks a document.",
+        N_("Printed on every certificate and in its QR code: where anyone checks a document."),
     ),
-    ("issuing_authority", "Issuing authority", "text", "The authority named on every page and document."),
+    (
+        "issuing_authority",
+        N_("Issuing authority"),
+        "text",
+        N_("The authority named on every page and document."),
+    ),
     (
         "ballast_x_m",
-        "Ballast position",
+        N_("Ballast position"),
         "m",
-        "Where the remedies place front ballast unless asked otherwise, behind the front wheel centre.",
+        N_("Where the remedies place front ballast unless asked otherwise, behind the front wheel centre."),
     ),
     (
         "min_rollover_g",
-        "Minimum rollover threshold",
+        N_("Minimum rollover threshold"),
         "g",
-        "Drawn on the stability map: a case below it tips too easily (an estimate; never the verdict).",
+        N_("Drawn on the stability map: a case below it tips too easily (an estimate; never the verdict)."),
     ),
-    ("air_density_kg_m3", "Air density", "kg/m³", "For the drag in the critical speed estimate."),
+    ("air_density_kg_m3", N_("Air density"), "kg/m³", N_("For the drag in the critical speed estimate.")),
 )
+
+
+def _counted(unit: str, count: int) -> str | None:
+    """A count of a unit that is a word ('12 months', '1 hour'), in the active language; None otherwise."""
+    if unit == "months":
+        return ngettext("%(count)s month", "%(count)s months", count) % {"count": count}
+    if unit == "requests":
+        return ngettext("%(count)s request", "%(count)s requests", count) % {"count": count}
+    if unit == "seconds":
+        return ngettext("%(count)s second", "%(count)s seconds", count) % {"count": count}
+    if unit == "minutes":
+        return ngettext("%(count)s minute", "%(count)s minutes", count) % {"count": count}
+    if unit == "hours":
+        return ngettext("%(count)s hour", "%(count)s hours", count) % {"count": count}
+    return None
 
 
 def _shown(value: object, unit: str) -> str:
     if isinstance(value, bool):
-        return "Yes" if value else "No"
+        return _("Yes") if value else _("No")
+    if isinstance(value, int) and (counted := _counted(unit, value)) is not None:
+        return counted
     if unit == "ratio" and isinstance(value, Decimal):
         return f"{value.normalize():f} ({value * 100:.1f} %)"
     if isinstance(value, Decimal):
         value = f"{value.normalize():f}"
+    # Text settings (a time zone, an address, the mfa mode) are shown as set in the environment.
     return f"{value} {unit}" if unit not in ("text", "count") else str(value)
 
 
@@ -484,14 +543,14 @@ def settings_rows(settings: Settings) -> list[SettingRow]:
         if name == "mfa":
             shown = settings.mfa_mode()  # unset: required in production, optional elsewhere
         else:
-            shown = "Not set" if value is None else _shown(value, unit)
+            shown = _("Not set") if value is None else _shown(value, unit)
         rows.append(
             SettingRow(
-                label=label,
+                label=_(label),
                 variable=f"TRIKECERT_{name.upper()}",
                 value=shown,
                 default=value == fields[name].default,
-                meaning=meaning,
+                meaning=_(meaning),
             )
         )
     return rows

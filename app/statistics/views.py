@@ -12,6 +12,7 @@ from starlette.responses import Response
 
 from app.accounts.deps import CurrentLogin
 from app.i18n.active import gettext as _
+from app.i18n.active import pgettext
 from app.ids import IdChoice, parse_id
 from app.stations.models import Station
 from app.statistics.by_model import layout_counts, model_counts
@@ -37,10 +38,12 @@ def read_filters(
     last = read_date(values["to"], "to", errors) or today
     first = read_date(values["from"], "from", errors) or last - timedelta(days=DEFAULT_DAYS - 1)
     if last < first:
+        # The fields named as their labels name them, in quotes.
+        to_field, from_field = pgettext("the date field", "to"), pgettext("the date field", "from")
         errors.add(
             "to",
             _("The %(to)s date must be the same as or after the %(from)s date")
-            % {"to": "'to'", "from": "'from'"},
+            % {"to": f"'{to_field}'", "from": f"'{from_field}'"},
         )
         first, last = last - timedelta(days=DEFAULT_DAYS - 1), last
     elif (last - first).days + 1 > MAX_DAYS:

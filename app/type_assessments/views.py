@@ -31,6 +31,7 @@ from app.type_assessments.service import (
 from app.web import submissions
 from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, query_text, readable
+from app.web.refusals import translated_refusal
 from app.web.templating import render
 from app.wording import case_name, type_occupancy_sentence, verdict_sentence
 
@@ -102,7 +103,14 @@ def new_type_assessment(request: Request, session: SessionDep, login: CurrentLog
     try:
         found = inspections_for(session, wanted)
     except ServiceError as error:  # fewer than two vehicles: say so beside the list, not as an error
-        return _new_page(request, session, values, errors, inspections=[], shortage=readable(error.message))
+        return _new_page(
+            request,
+            session,
+            values,
+            errors,
+            inspections=[],
+            shortage=translated_refusal(readable(error.message)),
+        )
     return _new_page(request, session, values, errors, inspections=found)
 
 
@@ -134,7 +142,7 @@ def create(request: Request, session: SessionDep, login: PostLogin, form: FormDe
         )
     except ServiceError as error:
         session.rollback()
-        errors.add("model", readable(error.message))
+        errors.add("model", translated_refusal(readable(error.message)))
         return _new_page(request, session, values, errors, token=token, status_code=422)
     except IntegrityError:
         session.rollback()  # the same form was stored by a simultaneous submission

@@ -9,11 +9,11 @@ from fractions import Fraction
 from functools import lru_cache
 from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
-from babel.dates import format_date
+from babel.dates import format_date, get_month_names
 from markupsafe import Markup, escape
 
 from app.config import get_settings
-from app.i18n.active import current_locale
+from app.i18n.active import N_, current_locale, gettext
 from app.i18n.locales import ENGLISH
 from app.stability import DELTA, LAYOUTS, LSF_LIMIT, Layout
 
@@ -55,12 +55,17 @@ def signed(value: Decimal | Fraction | float) -> str:
     return text if text.startswith("-") else f"+{text}"
 
 
-NOT_RECORDED = "Not recorded"
+NOT_RECORDED = N_("Not recorded")  # English on a document's frozen facts; translated on a page
+
+
+def not_recorded() -> str:
+    """'Not recorded', in the active language: how every page words a gap."""
+    return gettext(NOT_RECORDED)
 
 
 def or_not_recorded(value: object) -> object:
-    """A recorded value as it is, or 'Not recorded' for one left empty: every page words a gap so."""
-    return NOT_RECORDED if value is None or value == "" else value
+    """A recorded value as it is, or 'Not recorded' (in the page's language) for one left empty."""
+    return not_recorded() if value is None or value == "" else value
 
 
 def unbroken(text: str) -> str:
@@ -91,9 +96,18 @@ def axles_of(layout: str = "delta") -> Layout:
     return LAYOUTS.get(layout, DELTA)
 
 
+# Each layout's title (the core's Layout.title, which speaks English only), to be translated.
+_LAYOUT_TITLES = {
+    "delta": N_("Delta (one front wheel and two rear wheels)"),
+    "tadpole": N_("Tadpole (two front wheels and one rear wheel)"),
+    "quadricycle": N_("Quadricycle (two front wheels and two rear wheels)"),
+}
+
+
 def layout_title(layout: str) -> str:
-    """A layout's name for a person: "Tadpole (two front wheels and one rear wheel)"."""
-    return LAYOUTS[layout].title
+    """A layout's name for a person, in the active language: "Tadpole (two front wheels and one rear ...)"."""
+    title = _LAYOUT_TITLES.get(layout)
+    return gettext(title) if title is not None else LAYOUTS[layout].title
 
 
 @lru_cache
@@ -131,6 +145,16 @@ def long_date(moment: datetime | date) -> str:
         return f"{local.day} {local:%B %Y}"
     # The same order in every language (1 Disamba 2027), the month's name from CLDR.
     return format_date(local if not isinstance(local, datetime) else local.date(), "d MMMM y", locale=locale)
+
+
+def month_names() -> list[str]:
+    """The twelve months as long_date names them in the active language (January ... December, from
+    CLDR outside English): the offline checker writes its dates with them, whatever its browser knows."""
+    locale = current_locale()
+    if locale == ENGLISH:
+        return [f"{date(2000, month, 1):%B}" for month in range(1, 13)]
+    names = get_month_names("wide", "format", locale=locale)
+    return [names[month] for month in range(1, 13)]
 
 
 def day_bounds(day: date) -> tuple[datetime, datetime]:

@@ -111,12 +111,62 @@ _SENTENCES: tuple[tuple[re.Pattern[str], str], ...] = tuple(
             N_("Use up to %(maximum)s letters, digits, spaces, '.', '/' or '-', like NSCDC/4471"),
         ),
         (r"An account for (?P<email>\S+) already exists", N_("An account for %(email)s already exists")),
+        # The second factor's and a re-confirmation's refusals (app/accounts/second_factor.py, reauth.py).
+        (
+            r"That code is not right or was used already; enter the 6-digit code your app shows now",
+            N_("That code is not right or was used already; enter the 6-digit code your app shows now"),
+        ),
+        (
+            rf"Too many wrong codes; wait {_figure('minutes')} minutes, then try again",
+            N_("Too many wrong codes; wait %(minutes)s minutes, then try again"),
+        ),
+        (
+            rf"Too many wrong passwords; wait {_figure('minutes')} minutes, then try again",
+            N_("Too many wrong passwords; wait %(minutes)s minutes, then try again"),
+        ),
+        (r"That is not your password", N_("That is not your password")),
+        # A station's name taken (app/stations/service.py).
+        (r"A station named (?P<name>'.*') already exists", N_("A station named %(name)s already exists")),
+        # A type assessment's refusals (app/type_assessments/service.py, app/stability/type_assessment.py).
+        (
+            rf"A type assessment needs inspections of at least two vehicles of the (?P<model>.+); found "
+            rf"{_figure('count')}",
+            N_(
+                "A type assessment needs inspections of at least two vehicles of the %(model)s; "
+                "found %(count)s"
+            ),
+        ),
+        (
+            rf"More than {_figure('count')} vehicles of this model; choose the inspections",
+            N_("More than %(count)s vehicles of this model; choose the inspections"),
+        ),
+        (
+            r"(?P<first>.+) and (?P<second>.+) differ in (?P<differ>[a-z ]+); a type assessment needs "
+            r"vehicles with one seat layout, wheelbase, load items and occupant mass",
+            N_(
+                "%(first)s and %(second)s differ in %(differ)s; a type assessment needs vehicles with one "
+                "seat layout, wheelbase, load items and occupant mass"
+            ),
+        ),
+        (
+            r"The inspection of (?P<plate>.+) has loading cases weighed directly; a type assessment averages "
+            r"the empty-vehicle readings, so choose an inspection without them",
+            N_(
+                "The inspection of %(plate)s has loading cases weighed directly; a type assessment averages "
+                "the empty-vehicle readings, so choose an inspection without them"
+            ),
+        ),
     )
 )
 # Words inside a sentence that are themselves translated (the things, the count of wheels).
+# What two vehicles of a type assessment may differ in (app/stability/type_assessment.py).
+DIFFERENCES = frozenset(
+    {N_("axle layout"), N_("seat layout"), N_("wheelbase"), N_("load items"), N_("occupant mass")}
+)
 _WORD_GROUPS: dict[str, Callable[[str], str]] = {
     "what": lambda word: gettext(word) if word in THINGS else word,
     "wheels": lambda word: gettext(word),
+    "differ": lambda word: gettext(word) if word in DIFFERENCES else word,
 }
 N_("two")
 N_("three")

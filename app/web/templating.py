@@ -26,7 +26,14 @@ from app.wording import (
 )
 
 TEMPLATES_DIR = Path(__file__).resolve().parents[2] / "templates"
-SERVICE_NAME = "Keke stability certification"
+# The service's name in the page header; "Keke" is what the vehicle is called in every language.
+SERVICE_NAME = i18n.N_("Keke stability certification")
+
+
+def service_name() -> str:
+    """The service's name in the active language (the header, every page's title)."""
+    return i18n.gettext(SERVICE_NAME)
+
 
 _env = jinja2.Environment(
     loader=jinja2.FileSystemLoader(TEMPLATES_DIR),
@@ -56,7 +63,7 @@ _env.filters.update(
 _env.globals.update(
     html_lang=i18n.html_lang,
     language_links=language_links,
-    service_name=SERVICE_NAME,
+    service_name=service_name,
     limit_text=formatting.limit_text,
     axles_of=formatting.axles_of,
     case_name=case_name,
@@ -66,7 +73,7 @@ _env.globals.update(
     chart_caption=chart_caption,
     wheel_rows=wheel_rows,
     layout_of=layout_of,
-    not_recorded=formatting.NOT_RECORDED,
+    not_recorded=formatting.not_recorded,
 )
 templates = Jinja2Templates(env=_env)
 

@@ -5,6 +5,7 @@ refuses to issue for a weighing with none."""
 
 from __future__ import annotations
 
+import html
 import io
 import re
 from collections.abc import Callable, Iterator
@@ -333,3 +334,37 @@ def test_an_account_made_before_names_is_shown_without_its_email(
     inspection_id = record_from_page(client)
     page = client.get(f"/inspections/{inspection_id}").text
     assert f'id="recorded-by">Officer no. {legacy.id} (no name on record)<' in page
+
+
+@pytest.mark.parametrize(
+    ("language", "station_words", "gap"),
+    [
+        ("ha", "Ikeja weighbridge, tashar ma'aunin nauyi", "Ba a rubuta ba"),
+        ("yo", "Ikeja weighbridge, ibùdó òṣùwọ̀n ọkọ̀", "A kò kọ ọ́ sílẹ̀"),
+        ("ig", "Ikeja weighbridge, ọdụ ihe ọtụtụ ibu ụgbọala", "Edebeghị ya"),
+        ("pcm", "Ikeja weighbridge, weighbridge station", "Dem no record am"),
+    ],
+)
+def test_the_pages_name_a_station_and_a_gap_in_the_chosen_language(
+    client: TestClient,
+    session: Session,
+    officer_web: TestClient,
+    language: str,
+    station_words: str,
+    gap: str,
+) -> None:
+    station = station_client(client, session, "Ikeja weighbridge", StationDetails())
+    register(station)
+    inspection_id = weigh(station)
+    number = certify(station, inspection_id)["number"]
+
+    officer_web.cookies.set("trikecert_lang", language)
+    inspection_page = html.unescape(officer_web.get(f"/inspections/{inspection_id}").text)
+    assert f'id="recorded-by">{station_words}<' in inspection_page
+    page = html.unescape(officer_web.get(f"/certificates/{number}").text)
+    assert page.count(f"<dd>{station_words}</dd>") == 2  # recorded by and issued by
+    assert f"<dd>{gap}</dd>" in page
+    assert "Not recorded" not in page
+    # The paper's binding English names the station as it always did.
+    pdf = text_of(officer_web.get(f"/certificates/{number}/pdf").content)
+    assert "Recorded by Ikeja weighbridge, weighbridge station" in pdf

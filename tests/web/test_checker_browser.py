@@ -24,7 +24,9 @@ from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
+from app.i18n.active import use_locale
 from app.trust.offline import checked_against, offline_words
+from app.web.formatting import month_names
 from web.webtools import CHROMIUM_ARGS, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations
 
 # The certificate tests' helpers and the QR tests' wear, as pytest imports them for their own folder.
@@ -555,3 +557,27 @@ def test_back_online_the_page_takes_in_a_revocation_made_meanwhile(
     type_in(page, papers.certificate["qr_url"])
     verdict(page, "revoked")
     assert axe_violations(page, axe_script) == []
+
+
+@pytest.mark.parametrize("language", ["ha", "yo"])
+def test_offline_the_dates_are_written_in_the_pages_language(
+    phone: BrowserContext, papers: Papers, live_server: str, language: str
+) -> None:
+    # Debian's Chromium has no Hausa or Yoruba in its Intl: the months come with the page's words.
+    phone.add_cookies([{"name": "trikecert_lang", "value": language, "url": live_server}])
+    page = phone.new_page()
+    load_then_cut(phone, page)
+    assert page.evaluate("document.documentElement.lang") == language
+    assert page.evaluate(f"Intl.DateTimeFormat.supportedLocalesOf(['{language}'])") == []
+    made = made_at(page)
+    with use_locale(language):
+        expect(page.locator("#list-status")).to_have_text(checked_against(made))
+        month = month_names()[datetime.now(UTC).month - 1]
+
+    type_in(page, papers.revoked["qr_url"])
+    status = page.locator("#status")
+    expect(status).to_have_attribute("data-code", "revoked")
+    assert f" {month} {datetime.now(UTC).year}" in headline(page)
+    english = [f"{datetime(2000, m, 1):%B}" for m in range(1, 13)]
+    shown = page.locator("main").inner_text()
+    assert [name for name in english if name in shown] == []

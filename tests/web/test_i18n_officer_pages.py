@@ -5,12 +5,19 @@ from __future__ import annotations
 
 import html
 import re
+from decimal import Decimal
 
 import pytest
 from fastapi.testclient import TestClient
+from sqlalchemy.orm import Session
 
 from app.accounts.models import User
+from app.config import get_settings
+from app.inspections.service import InspectionRequest, record_inspection
+from app.stability import WheelReadings
 from app.stations.models import Station
+from app.vehicles.models import Vehicle
+from app.vehicles.service import register_vehicle
 from web.webtools import post_form
 
 LANGUAGES = ["ha", "yo", "ig", "pcm"]
@@ -231,3 +238,146 @@ def test_an_account_refusal_is_translated_on_the_page_and_stays_english_in_engli
     refused = post_form(admin_web, path, path, {"password": "short"})
     assert refused.status_code == 422
     assert "Jiri opekata mpe mkpụrụedemede 10" in visible(refused.text)
+
+
+# The settings table: each setting's name and meaning, and a value that is words, per language.
+SETTINGS_WORDS: dict[str, list[str]] = {
+    "ha": [
+        "Nauyin mai zama a ciki",
+        "Tsawon lokacin da takardar shaidar daidaiton gefe take aiki.",
+        "watanni 12",
+    ],
+    "yo": ["Ìwúwo ẹni tó wà nínú ọkọ̀", "Bí ìwé-ẹ̀rí ìdúróṣinṣin ẹ̀gbẹ́ ṣe ń wúlò pẹ́ tó.", "oṣù 12"],
+    "ig": ["Ibu onye nọ n'ime ya", "Ogologo oge asambodo nkwụsi ike n'akụkụ na-adị irè.", "ọnwa 12"],
+    "pcm": [
+        "Weight of person wey dey inside",
+        "How long di certificate of how e stand well for side",
+        "12 months",
+    ],
+}
+# Their English, and the rest of the table's English words, which must not be left over.
+SETTINGS_ENGLISH = [
+    "Occupant mass",
+    "How long a Lateral Stability Certificate is valid.",
+    "Sum tolerance",
+    "Calibration required",
+    "An officer is signed out after this idle.",
+    "Failed sign-ins before lock-out",
+    "Second factor at sign-in",
+    "every officer signs in with a code",
+    "Where the remedies place front ballast",
+    "Not set",
+    "Yes",
+    "minutes",
+    "hours",
+    "seconds",
+    "requests",
+]
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_the_settings_table_speaks_the_chosen_language(admin_web: TestClient, language: str) -> None:
+    english = visible(admin_web.get("/admin/settings").text)
+    assert all(words in english for words in [*SETTINGS_ENGLISH[:9], "12 months", "Not set (default)"])
+
+    admin_web.cookies.set("trikecert_lang", language)
+    table = admin_web.get("/admin/settings").text
+    table = visible(table[table.index("<table") : table.index("</table>")])
+
+    assert all(words in table for words in SETTINGS_WORDS[language])
+    left = [words for words in SETTINGS_ENGLISH if re.search(rf"\b{re.escape(words)}\b", table)]
+    assert left == ([] if language != "pcm" else [w for w in left if w in PIDGIN_AS_ENGLISH])
+    # The environment's names and values stay as they are typed: the variable, the mfa mode.
+    assert "TRIKECERT_" in table
+    assert "optional" in table
+
+
+# Words Pidgin speakers use as they are (docs/translations.md): the same in both.
+PIDGIN_AS_ENGLISH = {"Yes", "minutes", "hours", "seconds", "requests"}
+
+
+def _weigh_a_tadpole(session: Session) -> None:
+    """A tadpole weighed today, so the statistics show the per-layout table."""
+    register_vehicle(
+        session,
+        registration_number="TDP 101 EV",
+        make="Example",
+        model="E-Tadpole",
+        wheelbase_m=Decimal("1.900"),
+        seats=[("driver", Decimal("0.700")), ("passenger", Decimal("1.350"))],
+        layout="tadpole",
+    )
+    readings = WheelReadings(
+        left_front_kg=(Decimal("120"),), right_front_kg=(Decimal("118"),), rear_kg=(Decimal("140"),)
+    )
+    record_inspection(
+        session,
+        request=InspectionRequest(registration_number="TDP 101 EV", readings=readings),
+        rules=get_settings().rules(),
+    )
+
+
+STATISTICS_WORDS: dict[str, tuple[str, str]] = {
+    "ha": ("Tadpole (ƙafafun gaba biyu da ƙafar baya ɗaya): iyaka 1/3", "Ranar 'zuwa' dole ta zama"),
+    "yo": ("Tadpole (àgbá iwájú méjì àti àgbá ẹ̀yìn kan): ààlà 1/3", "Ọjọ́ 'dé' gbọ́dọ̀ jẹ́"),
+    "ig": ("Tadpole (ụkwụ n'ihu abụọ na otu ụkwụ azụ): oke 1/3", "Ụbọchị 'ruo' ga-abụ"),
+    "pcm": ("Tadpole (two front wheels and one back wheel): limit 1/3", "Di 'to' date must be"),
+}
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_the_statistics_name_the_layouts_and_the_fields_in_the_chosen_language(
+    admin_web: TestClient, session: Session, language: str
+) -> None:
+    _weigh_a_tadpole(session)
+    english = visible(admin_web.get("/statistics").text)
+    assert "Tadpole (two front wheels and one rear wheel): limit 1/3 (0.333)" in english
+
+    admin_web.cookies.set("trikecert_lang", language)
+    layout, refusal = STATISTICS_WORDS[language]
+    text = visible(admin_web.get("/statistics").text)
+    assert layout in text
+    assert "two front wheels and one rear wheel" not in text
+    refused = admin_web.get("/statistics", params={"from": "2026-12-01", "to": "2026-11-01"})
+    assert refused.status_code == 422
+    assert refusal in visible(refused.text)
+    assert "'from'" not in visible(refused.text) or language == "pcm"
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_a_vehicle_page_words_a_gap_in_the_chosen_language(
+    admin_web: TestClient, study_vehicle: Vehicle, language: str
+) -> None:
+    assert "Chassis number Not recorded" in visible(admin_web.get("/vehicles/BDG252QH").text)
+
+    admin_web.cookies.set("trikecert_lang", language)
+    text = visible(admin_web.get("/vehicles/BDG252QH").text)
+    gap = {"ha": "Ba a rubuta ba", "yo": "A kò kọ ọ́ sílẹ̀", "ig": "Edebeghị ya", "pcm": "Dem no record am"}
+    assert gap[language] in text
+    assert "Not recorded" not in text
+
+
+SERVICE_NAMES = {
+    "ha": "Takardar shaidar daidaiton Keke",
+    "yo": "Ìwé-ẹ̀rí ìdúróṣinṣin Keke",
+    "ig": "Asambodo nkwụsi ike Keke",
+    "pcm": "Certificate for how Keke stand well",
+}
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+@pytest.mark.parametrize("path", ["/", "/verify", "/check/"])
+def test_the_header_names_the_service_in_the_chosen_language(
+    admin_web: TestClient, path: str, language: str
+) -> None:
+    assert "Keke stability certification" in admin_web.get(path).text
+
+    admin_web.cookies.set("trikecert_lang", language)
+    page = admin_web.get(path).text
+    header = re.search(r'class="header__service">(.*?)</', page, re.S)
+    assert header is not None
+    assert html.unescape(header[1]).strip() == SERVICE_NAMES[language]
+    title = re.search(r"<title>(.*?)</title>", page, re.S)
+    assert title is not None
+    assert html.unescape(title[1]).endswith(f" – {SERVICE_NAMES[language]}")
+    assert "Keke stability certification" not in page

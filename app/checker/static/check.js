@@ -12,12 +12,18 @@ const $ = (id) => document.getElementById(id);
 const state = { held: null };
 
 // ---- dates, in the words' formats (app/web/formatting.py long_date; the display time zone) --------
+// The page's language may be one the phone's Intl does not know (Debian's Chromium knows none of ha,
+// yo, ig, pcm and answers in American English): Intl only finds the calendar day in the time zone,
+// and the month is named with the words' months (CLDR's, as the server's pages name it: "3 Disamba
+// 2026"). Words without months (an older page kept by the worker) fall back to British English.
 
 function longDate(date, timeZone) {
-  const parts = new Intl.DateTimeFormat("en-GB", { timeZone, day: "numeric", month: "long", year: "numeric" })
-    .formatToParts(date);
+  const months = Array.isArray(words.months) && words.months.length === 12 ? words.months : null;
+  const options = { timeZone, day: "numeric", month: months ? "numeric" : "long", year: "numeric" };
+  const parts = new Intl.DateTimeFormat("en-GB", options).formatToParts(date);
   const part = (type) => parts.find((p) => p.type === type).value;
-  return `${part("day")} ${part("month")} ${part("year")}`;
+  const month = months ? months[Number(part("month")) - 1] : part("month");
+  return `${Number(part("day"))} ${month} ${part("year")}`; // en-GB writes a numeric month's day "04"
 }
 
 function checkedAgainst(madeAt) {
