@@ -7,11 +7,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from decimal import Decimal
+from fractions import Fraction
 from typing import Literal
 
 from app.i18n.active import N_, current_locale, ngettext
 from app.i18n.active import gettext as _
-from app.stability.layout import LAYOUTS
+from app.stability.layout import DELTA, LAYOUTS, Layout
 from app.stability.model import layout_of_rules
 from app.stability.remedies import Advice
 
@@ -217,15 +218,38 @@ def type_occupancy_sentence(compliant: bool, max_compliant_occupants: int) -> st
     }
 
 
-def _position(x_m: Decimal) -> str:
-    """Where ballast sits, in words: '0.30 m behind the front wheel', '0.20 m ahead of the front wheel'."""
+def _position(x_m: Decimal, layout: Layout = DELTA) -> str:
+    """Where ballast sits, in words: '0.30 m behind the front wheel' (a delta), '0.20 m ahead of the
+    front axle' (two front wheels)."""
     places = max(2, -int(x_m.normalize().as_tuple().exponent))
     distance = f"{abs(x_m):.{places}f} m"
+    if layout.n_front == 1:
+        if x_m == 0:
+            return _("over the front wheel")
+        if x_m > 0:
+            return _("%(distance)s behind the front wheel") % {"distance": distance}
+        return _("%(distance)s ahead of the front wheel") % {"distance": distance}
     if x_m == 0:
-        return _("over the front wheel")
+        return _("over the front axle")
     if x_m > 0:
-        return _("%(distance)s behind the front wheel") % {"distance": distance}
-    return _("%(distance)s ahead of the front wheel") % {"distance": distance}
+        return _("%(distance)s behind the front axle") % {"distance": distance}
+    return _("%(distance)s ahead of the front axle") % {"distance": distance}
+
+
+# Where ballast must sit to help, per limit: its own share of the rear axle must be below the limit.
+_BALLAST_TOO_FAR = {
+    Fraction(2, 3): N_(
+        "Ballast %(position)s cannot help: it must sit less than two thirds of the wheelbase behind "
+        "the front wheel."
+    ),
+    Fraction(1, 3): N_(
+        "Ballast %(position)s cannot help: it must sit less than one third of the wheelbase behind "
+        "the front axle."
+    ),
+    Fraction(1, 2): N_(
+        "Ballast %(position)s cannot help: it must sit less than half the wheelbase behind the front axle."
+    ),
+}
 
 
 def _case_left(occupants: int) -> str:
@@ -247,7 +271,7 @@ def _carry_no_more(occupants: int) -> str:
     ) % {"count": count}
 
 
-def remedy_options(advice: Advice) -> list[str]:
+def remedy_options(advice: Advice, layout: Layout = DELTA) -> list[str]:
     """Each way to make every case up to the target comply, in words an owner understands."""
     if advice.compliant:
         return []
@@ -258,7 +282,7 @@ def remedy_options(advice: Advice) -> list[str]:
     if advice.ballast_kg is not None:
         options.append(
             _("fit more than %(mass)s kg of ballast %(position)s")
-            % {"mass": advice.ballast_kg, "position": _position(advice.ballast_x_m)}
+            % {"mass": advice.ballast_kg, "position": _position(advice.ballast_x_m, layout)}
         )
     if advice.seat_shift_m is not None:
         option = _("move the rear bench %(distance)s m forward") % {"distance": advice.seat_shift_m}
@@ -279,13 +303,13 @@ def remedy_options(advice: Advice) -> list[str]:
     return options
 
 
-def remedies_sentence(advice: Advice) -> str:
+def remedies_sentence(advice: Advice, layout: Layout = DELTA) -> str:
     """The remedies in one sentence: 'Carry no more than the driver; or fit more than 54.64 kg of ...'."""
     if advice.compliant:
         return _("Nothing: every loading case up to %(occupancy)s already complies.") % {
             "occupancy": occupancy(advice.target_occupants)
         }
-    options = remedy_options(advice)
+    options = remedy_options(advice, layout)
     sentence = ""
     if options:
         text = options[0]
@@ -293,20 +317,17 @@ def remedies_sentence(advice: Advice) -> str:
             text = _("%(these)s; or %(those)s") % {"these": text, "those": option}
         sentence = f"{text[:1].upper()}{text[1:]}."
     if not advice.ballast_possible:
-        cannot = _(
-            "Ballast %(position)s cannot help: it must sit less than two thirds of the wheelbase behind "
-            "the front wheel."
-        ) % {"position": _position(advice.ballast_x_m)}
+        cannot = _(_BALLAST_TOO_FAR[layout.limit]) % {"position": _position(advice.ballast_x_m, layout)}
         sentence = f"{sentence} {cannot}"
     return sentence.strip()
 
 
-def remedy_applied(advice: Advice, remedy: str) -> str | None:
+def remedy_applied(advice: Advice, remedy: str, layout: Layout = DELTA) -> str | None:
     """One advised remedy as done: 'after fitting 54.64 kg of ballast 0.30 m behind the front wheel'."""
     if remedy == "ballast" and advice.ballast_kg is not None:
         return _("after fitting %(mass)s kg of ballast %(position)s") % {
             "mass": advice.ballast_kg,
-            "position": _position(advice.ballast_x_m),
+            "position": _position(advice.ballast_x_m, layout),
         }
     if remedy == "seat_shift" and advice.seat_shift_m is not None:
         return _("after moving the rear bench %(distance)s m forward") % {"distance": advice.seat_shift_m}

@@ -106,7 +106,7 @@ class Facts:
     @property
     def remedies_sentence(self) -> str | None:
         """What would make the vehicle comply, in the one wording of the pages."""
-        return None if self.remedies is None else remedies_sentence(self.remedies)
+        return None if self.remedies is None else remedies_sentence(self.remedies, self.axles)
 
     @property
     def axles(self) -> Layout:

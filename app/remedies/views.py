@@ -124,7 +124,7 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
     chosen = [
         c.lsf_after_ballast if choice.remedy == "ballast" else c.lsf_after_seat_shift for c in remedies.cases
     ]
-    applied = remedy_applied(advice, choice.remedy)
+    applied = remedy_applied(advice, choice.remedy, remedies.layout)
     before = _points(remedies, [c.lsf for c in remedies.cases])
     chart = None
     if applied is not None and None not in chosen:
@@ -154,7 +154,8 @@ def remedies_context(inspection: Inspection, query: QueryParams) -> tuple[dict[s
         for c in remedies.cases
     ]
     context = {
-        "sentence": remedies_sentence(advice),
+        "sentence": remedies_sentence(advice, remedies.layout),
+        "layout_name": remedies.layout.name,
         "advice": advice,
         "rows": rows,
         "rollover_known": any(value is not None for value in thresholds.values()),

@@ -9,6 +9,7 @@ from certificate_helpers import FRONT_HEAVY, FRONT_HEAVY_READINGS, certify, regi
 from fastapi.testclient import TestClient
 from sqlalchemy import select
 from sqlalchemy.orm import Session
+from web.test_layout_words import TADPOLE
 
 from app.certificates.facts import Facts
 from app.certificates.models import Certificate
@@ -58,3 +59,17 @@ def test_the_remedies_are_kept_in_the_snapshot_and_old_snapshots_read(
     assert f"What would make it comply: {facts.remedies_sentence}" == STUDY_REMEDIES
     older = {key: value for key, value in stored.facts.items() if key != "remedies"}
     assert Facts.from_json(older).remedies is None
+
+
+def test_a_tadpole_s_refusal_prints_its_remedies_from_the_front_axle(api: TestClient) -> None:
+    register(api, TADPOLE)
+    inspection = weigh(api, "TDP 101 EV", {"left_front_kg": 186, "right_front_kg": 182, "rear_kg": 112})
+    refusal = api.post(f"/api/v1/inspections/{inspection}/certificate")
+    assert refusal.status_code == 201, refusal.text
+    paper = pdftotext(pdf_of(api, refusal.json()["number"]))
+    assert (
+        "What would make it comply: Carry no more than the driver and one passenger; or fit more than"
+        in paper
+    )
+    assert "kg of ballast 0.30 m behind the front axle" in paper
+    assert "front wheel;" not in paper
