@@ -14,6 +14,7 @@ from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime
+from functools import lru_cache
 
 from sqlalchemy import func, select
 from starlette.responses import Response
@@ -59,11 +60,19 @@ def verdict_until(certificate: Certificate) -> datetime | None:
     return certificate.expires_at if certificate_status(certificate) == "issued" else None
 
 
+@lru_cache(maxsize=MAX_ANSWERS)
+def canonical_number(number: str) -> str | None:
+    """The number as printed (check letter verified), or None when it does not parse."""
+    try:
+        return str(parse_number(number))
+    except InvalidNumber:
+        return None
+
+
 def answer_key(kind: str, number: str) -> tuple[object, ...] | None:
     """(database, kind, normalised number, language), or None for a number that does not parse."""
-    try:
-        canonical = str(parse_number(number))
-    except InvalidNumber:
+    canonical = canonical_number(number)
+    if canonical is None:
         return None
     return (get_settings().database_url, kind, canonical, current_locale())
 
