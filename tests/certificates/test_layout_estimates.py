@@ -10,6 +10,7 @@ import re
 from typing import Any
 
 import pytest
+from api.test_front_track import QUADRICYCLE, QUADRICYCLE_READINGS, TADPOLE, TADPOLE_READINGS
 from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 from test_pdf_geometry import Word, pdftotext, words_of
@@ -20,34 +21,6 @@ from app.accounts.service import create_user
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"
-SEAT_Z = 0.75
-TADPOLE: dict[str, Any] = {
-    "registration_number": "TDP 101 EV",
-    "layout": "tadpole",
-    "make": "Example",
-    "model": "E-Tadpole",
-    "wheelbase_m": 1.9,
-    "front_track_m": 1.2,
-    "seats": [
-        {"role": "driver", "x_m": 0.7, "z_m": SEAT_Z},
-        *[{"role": "passenger", "x_m": 1.35, "z_m": SEAT_Z}] * 3,
-    ],
-}
-TADPOLE_READINGS = {"left_front_kg": 186, "right_front_kg": 182, "rear_kg": 112}
-QUADRICYCLE: dict[str, Any] = {
-    "registration_number": "QDC 202 AA",
-    "layout": "quadricycle",
-    "make": "Bajaj",
-    "model": "Qute",
-    "wheelbase_m": 2.0,
-    "front_track_m": 1.3,
-    "track_m": 1.3,
-    "seats": [
-        {"role": "driver", "x_m": 1.0, "z_m": SEAT_Z},
-        {"role": "passenger", "x_m": 1.8, "z_m": SEAT_Z},
-    ],
-}
-QUADRICYCLE_READINGS = {"left_front_kg": 120, "right_front_kg": 118, "left_rear_kg": 90, "right_rear_kg": 92}
 # Each layout, its readings, its limit as printed and as a number.
 LAYOUTS = [
     pytest.param(TADPOLE, TADPOLE_READINGS, "1/3", 1 / 3, id="tadpole"),
