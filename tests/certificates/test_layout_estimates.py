@@ -10,8 +10,8 @@ import re
 from typing import Any
 
 import pytest
-from api.test_front_track import QUADRICYCLE, QUADRICYCLE_READINGS, TADPOLE, TADPOLE_READINGS
 from fastapi.testclient import TestClient
+from layout_vehicles import QUADRICYCLE, QUADRICYCLE_READINGS, TADPOLE, TADPOLE_READINGS
 from sqlalchemy.orm import Session
 from test_pdf_geometry import Word, pdftotext, words_of
 from web.test_web_dynamics import text_of
