@@ -19,6 +19,7 @@ import app.models  # noqa: F401  (every table and the audit recorder: a command 
 from app import __version__
 from app.audit.recorder import acting_from_command_line
 from app.certificates.cli import add_certificate_commands
+from app.cli_values import dash_safe
 from app.config import get_settings, settings_problems, trusted_proxies
 from app.db import get_engine, get_sessionmaker
 from app.errors import ServiceError
@@ -392,7 +393,8 @@ def cmd_audit_verify(_args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(dash_safe(parser, sys.argv[1:] if argv is None else argv))
     try:
         get_settings()
     except ValidationError as error:
