@@ -35,7 +35,7 @@ def _translations(locale: str) -> list[tuple[str, str]]:
             continue
         ids = message.id if isinstance(message.id, tuple) else (message.id,)
         strings = message.string if isinstance(message.string, tuple) else (message.string,)
-        found += [(ids[0], string) for string in strings]
+        found += [(str(ids[0]), str(string)) for string in strings]
     return found
 
 
