@@ -8,6 +8,7 @@ from starlette.requests import Request
 from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import AdminLogin, AdminPost, ConfirmedAdminPost
+from app.accounts.names import person_on_page
 from app.accounts.service import (
     MAX_PASSWORD_LENGTH,
     ROLES,
@@ -132,7 +133,7 @@ def save_details(
     set_flash(
         session,
         login,
-        _("%(email)s is now shown as %(name)s.") % {"email": account.email, "name": account.shown_as()},
+        _("%(email)s is now shown as %(name)s.") % {"email": account.email, "name": person_on_page(account)},
     )
     return RedirectResponse("/admin/users", status_code=303)
 

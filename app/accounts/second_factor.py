@@ -23,6 +23,7 @@ from app.audit.recorder import record_event
 from app.config import Settings
 from app.db import begin_write, utcnow
 from app.errors import ServiceError
+from app.i18n.active import gettext
 
 STEP_SECONDS = 30
 RECOVERY_CODES = 10
@@ -76,7 +77,7 @@ def start_enrolment(session: Session, *, user: User, settings: Settings) -> Enro
     return Enrolment(
         secret=user.totp_secret,
         uri=uri,
-        qr_svg=qr.svg_inline(scale=4, omitsize=True, title="Enrolment QR code"),
+        qr_svg=qr.svg_inline(scale=4, omitsize=True, title=gettext("Enrolment QR code")),
     )
 
 

@@ -13,6 +13,7 @@ from starlette.responses import Response
 
 from app.accounts.deps import AdminLogin
 from app.audit.models import AuditEvent
+from app.audit_log import words
 from app.audit_log.checkpoint import verify_since_checkpoint
 from app.audit_log.service import (
     ACTOR_KINDS,
@@ -161,6 +162,11 @@ def audit_page(
             "action_groups": action_groups(sorted(actions)),
             "record_types": sorted(record_types),
             "today": long_date(local_today()),
+            "action_words": words.action_words,
+            "record_kind": words.record_kind,
+            "actor_kind": words.actor_kind,
+            "actor_label": words.actor_label,
+            "first_upper": words.first_upper,
         },
         status_code=422 if errors else 200,
     )

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
+from app.accounts.names import person_on_page
 from app.errors import ServiceError
 from app.i18n.active import N_, gettext
 from app.inspections.models import Inspection
@@ -81,7 +82,7 @@ def recorded_by(session: Session, inspection: Inspection) -> str:
     submitted it (in the page's language)."""
     officer = officer_of(session, inspection)
     if officer is not None:
-        return officer.shown_as()
+        return person_on_page(officer)
     if inspection.station is not None:
         return _station_on_page(inspection.station)
     return not_recorded()
@@ -90,7 +91,7 @@ def recorded_by(session: Session, inspection: Inspection) -> str:
 def issued_by(session: Session, *, user_id: int | None, station_id: int | None, label: str) -> str:
     """Who issued a document, on a page, from what its row keeps (the issuer's ids and audit label)."""
     if user_id is not None and (user := session.get(User, user_id)) is not None:
-        return user.shown_as()
+        return person_on_page(user)
     if station_id is not None and (station := session.get(Station, station_id)) is not None:
         return _station_on_page(station)
     return gettext(COMMAND_LINE) if label.startswith("cli:") else not_recorded()
