@@ -8,7 +8,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 
-from sqlalchemy import ColumnElement, Select, func, select
+from sqlalchemy import ColumnElement, Select, func, or_, select
 from sqlalchemy.orm import Session
 
 from app.audit.chain import ChainReport
@@ -51,7 +51,13 @@ def _conditions(session: Session, where: AuditFilter) -> list[ColumnElement[bool
     if where.actor_kind:
         found.append(AuditEvent.actor_kind == where.actor_kind)
     if where.action.endswith("."):
-        found.append(AuditEvent.action.startswith(where.action, autoescape=True))
+        # "sign_in." picks every sign-in action; "sign_out." the one action of that kind, "sign_out".
+        found.append(
+            or_(
+                AuditEvent.action.startswith(where.action, autoescape=True),
+                AuditEvent.action == where.action[:-1],
+            )
+        )
     elif where.action:
         found.append(AuditEvent.action == where.action)
     if where.target_type:

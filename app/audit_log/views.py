@@ -119,10 +119,14 @@ def read_filters(sent: dict[str, str], errors: FormErrors) -> tuple[dict[str, st
 
 
 def action_groups(actions: list[str]) -> list[tuple[str, list[str]]]:
-    """The actions grouped by the kind of record they start with ("certificate."), in order."""
+    """The actions grouped by the kind of record they start with ("certificate."), in order; an action
+    with no kind of its own ("sign_out") is its group's only one, chosen by the group alone."""
     groups: dict[str, list[str]] = {}
     for action in sorted(actions):
-        groups.setdefault(action.split(".", 1)[0] + ".", []).append(action)
+        kind, dot, _rest = action.partition(".")
+        groups.setdefault(kind + ".", [])
+        if dot:
+            groups[kind + "."].append(action)
     return list(groups.items())
 
 

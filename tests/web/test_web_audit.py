@@ -543,3 +543,20 @@ def test_the_csv_is_for_administrators_only(client: TestClient, web: TestClient)
     answer = visitor.get("/admin/audit.csv?action=sign_in.", follow_redirects=False)
     assert answer.status_code == 303
     assert answer.headers["location"] == "/login?" + urlencode({"next": "/admin/audit.csv?action=sign_in."})
+
+
+def test_the_sign_outs_are_picked_by_their_kind_and_offered_only_so(
+    admin_web: TestClient, session: Session
+) -> None:
+    signed_out = admin_web.post(
+        "/logout", data={"csrf_token": hidden(admin_web.get("/").text)}, follow_redirects=False
+    )
+    assert signed_out.status_code == 303
+    assert sign_in(admin_web, ADMIN_EMAIL).status_code == 303
+    page = admin_web.get("/admin/audit", params={"action": "sign_out."})
+    assert page.status_code == 200
+    sign_outs = [event.id for event in events(session) if event.action == "sign_out"]
+    assert sign_outs
+    assert shown_ids(page.text) == sorted(sign_outs, reverse=True)
+    assert 'value="sign_out"' not in page.text  # chosen by its kind, the one action of that kind
+    assert 'value="sign_out."' in page.text
