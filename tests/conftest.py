@@ -17,21 +17,11 @@ from datetime import datetime
 from pathlib import Path
 
 import pytest
+from emptied import empty_every_table
 from fastapi.testclient import TestClient
 from password_cost import cheap_password_hashing
 from regex_classes import keep_character_classes
-from sqlalchemy import (
-    Connection,
-    Engine,
-    Table,
-    create_engine,
-    exists,
-    literal,
-    select,
-    text,
-    union_all,
-    update,
-)
+from sqlalchemy import Engine, create_engine, text, update
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session
@@ -40,7 +30,7 @@ from app import config, db
 from app.certificates.answer_cache import forget_answers
 from app.certificates.guard import immutability_lifted
 from app.certificates.trust_bundle import forget_bundles
-from app.db import Base, make_engine
+from app.db import make_engine
 from app.grants import grant_app_role
 from app.inspections.models import Inspection
 from app.main import create_app
@@ -248,27 +238,12 @@ def _clear_caches() -> None:
     db.get_sessionmaker.cache_clear()
 
 
-def _filled_tables(connection: Connection) -> list[Table]:
-    """The tables with at least one row, children before their parents, found in one statement."""
-    tables = list(reversed(Base.metadata.sorted_tables))
-    probes = [select(literal(table.name)).where(exists().select_from(table)) for table in tables]
-    filled = set(connection.scalars(union_all(*probes)))
-    return [table for table in tables if table.name in filled]
-
-
 @pytest.fixture
 def engine(database_url: str, owner_engine: Engine) -> Iterator[Engine]:
     """The app's engine; every table is emptied by the owner after the test."""
     engine = db.get_engine()
     yield engine
-    with owner_engine.begin() as connection:
-        filled = _filled_tables(connection)
-        # Only the filled tables' guards are lifted: on SQLite each lift drops and makes again a
-        # table's triggers, a schema change every connection then reads again (all 40 of them cost a
-        # test 15-20 ms); an empty table needs neither its DELETE nor its triggers lifted.
-        with immutability_lifted(connection, {table.name for table in filled}):
-            for table in filled:
-                connection.execute(table.delete())
+    empty_every_table(owner_engine)
     # What a process keeps while the records say nothing changed: a database emptied and filled again
     # can say the same (ids restart, counts repeat), so the next test must not be served this one's.
     forget_bundles()

@@ -41,6 +41,7 @@ from urllib.parse import unquote
 
 import pytest
 import schemathesis
+from emptied import empty_every_table
 from fastapi.testclient import TestClient
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
@@ -55,8 +56,7 @@ from sqlalchemy.orm import Session
 from study_data import STUDY_VEHICLE
 
 from app import config
-from app.certificates.guard import immutability_lifted
-from app.db import Base, get_sessionmaker
+from app.db import get_sessionmaker
 from app.inspections.models import Inspection
 from app.main import create_app
 from app.stability import Rules
@@ -475,9 +475,7 @@ APIWorkflow = schema.as_state_machine()
 
 def _only_on_file(engine: Engine, client: TestClient) -> None:
     """Every table emptied (as the tables' owner), then the records of `put_on_file` stored again."""
-    with engine.begin() as connection, immutability_lifted(connection):
-        for table in reversed(Base.metadata.sorted_tables):
-            connection.execute(table.delete())
+    empty_every_table(engine)
     with get_sessionmaker()() as session:
         put_on_file(client, session)
 

@@ -19,7 +19,7 @@ import pytest
 import segno
 from fastapi.testclient import TestClient
 from PIL import Image
-from playwright.sync_api import Browser, BrowserContext, BrowserType, Page, Route, expect
+from playwright.sync_api import Browser, BrowserContext, BrowserType, CDPSession, Page, Route, expect
 from sqlalchemy.orm import Session
 
 from app.certificates.actors import Actor
@@ -302,14 +302,21 @@ def worn_code(text: str, folder: Path) -> Path:
     return worn(picture, 2)
 
 
+PICTURED = ("certified", "refusal", "revoked", "not_genuine")
+
+
+def picture(api: TestClient, papers: Papers, code: str, folder: Path) -> Path:
+    """A worn picture of the paper that must get the verdict `code`: a printed PDF, or a forged code."""
+    printed = {"certified": papers.certificate, "refusal": papers.refusal, "revoked": papers.revoked}
+    if code in printed:
+        return worn_print(api, printed[code], folder / code)
+    assert code == "not_genuine", code
+    return worn_code(tampered(papers.certificate), folder / "forged")
+
+
 def pictures(api: TestClient, papers: Papers, folder: Path) -> dict[str, Path]:
     """A worn picture of each paper, by the verdict it must get: printed PDFs, and a forged code."""
-    return {
-        "certified": worn_print(api, papers.certificate, folder / "certificate"),
-        "refusal": worn_print(api, papers.refusal, folder / "refusal"),
-        "revoked": worn_print(api, papers.revoked, folder / "revoked"),
-        "not_genuine": worn_code(tampered(papers.certificate), folder / "forged"),
-    }
+    return {code: picture(api, papers, code, folder) for code in PICTURED}
 
 
 def test_offline_by_a_photo_of_the_printed_paper(
@@ -365,7 +372,7 @@ def y4m(frame: Image.Image, target: Path, frames: int = 10) -> Path:
     return target
 
 
-@pytest.mark.parametrize("code", ["certified", "refusal", "revoked", "not_genuine"])
+@pytest.mark.parametrize("code", PICTURED)
 def test_offline_by_the_camera(
     code: str,
     browser_type: BrowserType,
@@ -377,7 +384,7 @@ def test_offline_by_the_camera(
     tmp_path: Path,
 ) -> None:
     """Chromium's fake camera plays the worn picture framed as a phone held over the code would."""
-    video = y4m(qr_region(pictures(api, papers, tmp_path)[code]), tmp_path / "camera.y4m")
+    video = y4m(qr_region(picture(api, papers, code, tmp_path)), tmp_path / "camera.y4m")
     args = [
         *CHROMIUM_ARGS,
         "--use-fake-device-for-media-stream",
@@ -453,6 +460,15 @@ def serve(bundle_text: str) -> Callable[[Route], None]:
 # ---- the shared table of cases (tests/trust/offline_cases.py), through the page ---------------------
 
 
+def forget_everything(page: Page, cdp: CDPSession) -> None:
+    """Clear all the page's origin keeps (Cache Storage, localStorage, IndexedDB, workers...), and
+    check that the page finds neither a list nor a pinned key: as in a phone's first visit."""
+    origin = "{0.scheme}://{0.netloc}".format(urlsplit(page.url))
+    cdp.send("Storage.clearDataForOrigin", {"origin": origin, "storageTypes": "all"})
+    kept = page.evaluate("async () => [await caches.keys(), localStorage.length]")
+    assert kept == [[], 0], kept
+
+
 def test_the_shared_table_of_cases_decides_alike_on_the_page(
     browser: Browser,
     browser_context_args: dict[str, Any],
@@ -461,20 +477,25 @@ def test_the_shared_table_of_cases_decides_alike_on_the_page(
     session: Session,
 ) -> None:
     """Every row as an officer meets it: the row's bundle is the list the page fetched first, its clock
-    the device's, its text typed; the banner shows the row's code (as `decide` and the CLI give it)."""
+    the device's, its text typed; the banner shows the row's code (as `decide` and the CLI give it).
+    One phone for all rows (a context each cost a second a row), its origin's storage cleared before
+    each row, as a new phone's would be."""
     cases = offline_cases(api, session)
     assert len(cases) >= 20
     seen = []
+    context = browser.new_context(**{**browser_context_args, "viewport": PHONE, "service_workers": "block"})
+    guard.watch(context)
+    page = context.new_page()
+    cdp = context.new_cdp_session(page)
+    page.goto("/check/")
+    ready(page)
     for case in cases:
-        context = browser.new_context(
-            **{**browser_context_args, "viewport": PHONE, "service_workers": "block"}
-        )
-        guard.watch(context)
+        forget_everything(page, cdp)
+        context.unroute("**/.well-known/trikecert-trust")
         if case.bundle_text:
             context.route("**/.well-known/trikecert-trust", serve(case.bundle_text))
         else:
             context.route("**/.well-known/trikecert-trust", lambda route: route.abort("internetdisconnected"))
-        page = context.new_page()
         page.clock.set_fixed_time(datetime.fromtimestamp(case.now_unix, UTC))
         page.goto("/check/")
         ready(page)
@@ -483,7 +504,7 @@ def test_the_shared_table_of_cases_decides_alike_on_the_page(
         if case.expected_code in ONLY_IN_THE_TABLE and case.expected_code not in seen:
             shoot(page, case.expected_code.replace("_", "-"))
         seen.append(case.expected_code)
-        context.close()
+    context.close()
     assert {"certified", "refusal", "revoked", "superseded", "not_genuine", "stale", "clock_behind"} <= set(
         seen
     )
