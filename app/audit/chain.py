@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Any
 
+from app.i18n.active import gettext as _
+
 GENESIS = "0" * 64
 
 
@@ -79,12 +81,13 @@ def verify_chain(
     previous, expected_id, count = after_hash, after_id + 1, 0
     for fields, stored_hash in events:
         if fields.id != expected_id:
-            return ChainReport(
-                count, fields.id, f"event {expected_id} is missing: the next on record is {fields.id}"
-            )
+            missing = _("event %(missing)s is missing: the next on record is %(found)s")
+            return ChainReport(count, fields.id, missing % {"missing": expected_id, "found": fields.id})
         if fields.previous_hash != previous:
-            return ChainReport(count, fields.id, f"event {fields.id} does not follow event {fields.id - 1}")
+            unlinked = _("event %(event)s does not follow event %(before)s")
+            return ChainReport(count, fields.id, unlinked % {"event": fields.id, "before": fields.id - 1})
         if event_hash(fields) != stored_hash:
-            return ChainReport(count, fields.id, f"event {fields.id} was changed after it was recorded")
+            changed = _("event %(event)s was changed after it was recorded")
+            return ChainReport(count, fields.id, changed % {"event": fields.id})
         previous, expected_id, count = stored_hash, expected_id + 1, count + 1
     return ChainReport(count)

@@ -34,6 +34,7 @@ from app.audit.models import AuditCheckpoint, AuditEvent
 from app.config import Settings
 from app.db import begin_write, utcnow
 from app.errors import Conflict
+from app.i18n.active import gettext as _
 from app.trust.claims import find_key
 from app.trust.keys import current_signer, published_keys
 from app.trust.signer import Signer
@@ -113,8 +114,12 @@ def verify_all(session: Session, settings: Settings) -> ChainReport:
     checkpoint, problem = found
     if checkpoint.event_id > report.events:
         missing = report.events + 1
-        signed = f"checkpoint {checkpoint.id} was signed at event {checkpoint.event_id}"
-        return ChainReport(report.events, missing, f"event {missing} is missing: {signed}")
+        signed = _("checkpoint %(checkpoint)s was signed at event %(event)s") % {
+            "checkpoint": checkpoint.id,
+            "event": checkpoint.event_id,
+        }
+        reason = _("event %(missing)s is missing: %(signed)s") % {"missing": missing, "signed": signed}
+        return ChainReport(report.events, missing, reason)
     # What the last checkpoint that holds signed is proven; the change lies after it, up to this one.
     proven = session.scalar(
         select(AuditCheckpoint.event_id)
@@ -130,7 +135,8 @@ class ChainContradicted(Conflict):
 
 
 def _refuse(reason: str) -> ChainContradicted:
-    return ChainContradicted(f"no checkpoint signed: {reason}", field="audit", rule="checkpoint_contradicted")
+    message = _("no checkpoint signed: %(reason)s") % {"reason": reason}
+    return ChainContradicted(message, field="audit", rule="checkpoint_contradicted")
 
 
 def record_checkpoint(session: Session, settings: Settings, *, event_id: int) -> AuditCheckpoint:
@@ -146,7 +152,8 @@ def record_checkpoint(session: Session, settings: Settings, *, event_id: int) ->
         raise ValueError(f"no audit event {event_id} to sign")
     newest = newest_checkpoint(session)
     if newest is not None and newest.event_id > head.id:
-        raise _refuse(f"checkpoint {newest.id} was signed at a later event ({newest.event_id})")
+        later = _("checkpoint %(checkpoint)s was signed at a later event (%(event)s)")
+        raise _refuse(later % {"checkpoint": newest.id, "event": newest.event_id})
     now = utcnow()
     claims = {
         "chain": "trikecert-audit",
@@ -195,22 +202,33 @@ def _checkpoint_problem(
 ) -> str | None:
     claims = checkpoint_claims(checkpoint.token, jwks)
     if claims is None or claims.get("event") != checkpoint.event_id or claims.get("hash") != checkpoint.hash:
-        return f"checkpoint {checkpoint.id} is not as a published key signed it"
+        return _("checkpoint %(checkpoint)s is not as a published key signed it") % {
+            "checkpoint": checkpoint.id
+        }
     # Checkpoints signed before `previous` was a claim carry none; every later one names the last.
     if previous is not None and "previous" in claims and claims["previous"] != token_digest(previous.token):
-        return f"checkpoint {checkpoint.id} does not follow checkpoint {previous.id} as it was signed"
+        unlinked = _("checkpoint %(checkpoint)s does not follow checkpoint %(previous)s as it was signed")
+        return unlinked % {"checkpoint": checkpoint.id, "previous": previous.id}
     event = session.get(AuditEvent, checkpoint.event_id)
     if event is None:
-        return f"event {checkpoint.event_id} is missing: checkpoint {checkpoint.id} was signed at it"
+        missing = _("event %(event)s is missing: checkpoint %(checkpoint)s was signed at it")
+        return missing % {"event": checkpoint.event_id, "checkpoint": checkpoint.id}
     if event_hash(_fields(event)) != event.hash:
-        return f"event {checkpoint.event_id} was changed after checkpoint {checkpoint.id} was signed"
+        changed = _("event %(event)s was changed after checkpoint %(checkpoint)s was signed")
+        return changed % {"event": checkpoint.event_id, "checkpoint": checkpoint.id}
     if event.hash != checkpoint.hash:
         signed = checkpoint.created_at.strftime("%Y-%m-%d %H:%M UTC")
-        return (
-            f"the chain up to event {checkpoint.event_id} was rewritten after checkpoint {checkpoint.id} "
-            f"was signed ({signed}): the checkpoint signed hash {checkpoint.hash[:16]}…, the event now "
-            f"holds {event.hash[:16]}…"
+        rewritten = _(
+            "the chain up to event %(event)s was rewritten after checkpoint %(checkpoint)s was signed "
+            "(%(signed)s): the checkpoint signed hash %(signed_hash)s…, the event now holds %(held_hash)s…"
         )
+        return rewritten % {
+            "event": checkpoint.event_id,
+            "checkpoint": checkpoint.id,
+            "signed": signed,
+            "signed_hash": checkpoint.hash[:16],
+            "held_hash": event.hash[:16],
+        }
     return None
 
 

@@ -133,6 +133,10 @@ def test_an_edited_event_is_shown_as_tampering_on_the_page_and_by_the_command(
     )
     assert done.returncode == 1
     assert f"event {target.id} was changed after it was recorded" in done.stdout
+    admin_web.cookies.set("trikecert_lang", "ha")
+    in_hausa = html.unescape(admin_web.get("/admin/audit").text)
+    assert f"An canza abin da ya faru na {target.id} bayan an rubuta shi" in in_hausa
+    assert "was changed after it was recorded" not in in_hausa
 
 
 @pytest.mark.parametrize("statement", ["UPDATE audit_event SET action = 'x'", "DELETE FROM audit_event"])
