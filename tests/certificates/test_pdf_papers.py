@@ -223,7 +223,7 @@ def qr_width_mm(pdf: bytes) -> float:
     """The printed width of the QR code on page 1, measured from its dark modules at 300 dpi."""
     dpi = 300
     image = rendered(pdf, dpi=dpi)
-    [found] = zxingcpp.read_barcodes(image)
+    [found] = zxingcpp.read_barcodes(image, formats=zxingcpp.BarcodeFormats(zxingcpp.BarcodeFormat.QRCode))
     corners = [found.position.top_left, found.position.bottom_right]
     cx = sum(point.x for point in corners) / 2
     cy = sum(point.y for point in corners) / 2
