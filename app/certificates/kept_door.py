@@ -12,7 +12,7 @@ answer) goes on to the route, which answers exactly as before and keeps the answ
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeVar
 
 from starlette.types import ASGIApp, Receive, Scope, Send
 
@@ -21,6 +21,7 @@ from app.certificates.bundle_answer import bundle_response
 from app.certificates.trust_bundle import BUNDLE_MARK, held_bundle, is_bundle_kept
 from app.certificates.verify_json import accepts_json
 from app.config import get_settings
+from app.marks import Mark, MarkQuery
 from app.web.scope import header
 
 BUNDLE_PATH = "/.well-known/trikecert-trust"
@@ -28,11 +29,12 @@ PAGE_PREFIX = "/verify/"
 API_PREFIX = "/api/v1/verify/"
 # The routes' own bounds on the number (a longer one is the route's 422, never a kept answer).
 PAGE_NUMBER_MAX, API_NUMBER_MAX = 60, 40
+Held = TypeVar("Held")
 
 
 def door_of(scope: Scope) -> tuple[str, str] | None:
     """(kind of kept answer, number) for a plain GET of a public verification, else None."""
-    if scope["method"] != "GET" or scope["query_string"]:
+    if not _plain_get(scope):
         return None
     path: str = scope["path"]
     if path.startswith(API_PREFIX):
@@ -66,10 +68,7 @@ class KeptAnswersFirst:
         if door is None or key is None or not is_kept(key):
             await self.app(scope, receive, send)
             return
-        try:
-            held = held_answer(key, await CHANGE_MARK.read_soon())
-        except Exception:  # the route meets it again and answers as it always does
-            held = None
+        held = await _current(CHANGE_MARK, lambda mark: held_answer(key, mark))
         if held is None:
             await self.app(scope, receive, send)
             return
@@ -79,11 +78,8 @@ class KeptAnswersFirst:
     async def _bundle(self, scope: Scope, receive: Receive, send: Send) -> None:
         settings = get_settings()
         held = None
-        if scope["method"] == "GET" and not scope["query_string"] and is_bundle_kept(settings):
-            try:
-                held = held_bundle(settings, await BUNDLE_MARK.read_soon())
-            except Exception:  # the route meets it again and answers as it always does
-                held = None
+        if _plain_get(scope) and is_bundle_kept(settings):
+            held = await _current(BUNDLE_MARK, lambda mark: held_bundle(settings, mark))
         if held is None:
             await self.app(scope, receive, send)
             return
@@ -91,6 +87,20 @@ class KeptAnswersFirst:
         if_none_match = header(scope, b"if-none-match")
         answer = bundle_response(held, header(scope, b"accept-encoding") or "", if_none_match)
         await answer(scope, receive, send)
+
+
+def _plain_get(scope: Scope) -> bool:
+    """A GET with no query: the only request a kept answer is ever the answer to."""
+    return scope["method"] == "GET" and not scope["query_string"]
+
+
+async def _current(query: MarkQuery, pick: Callable[[Mark], Held | None]) -> Held | None:
+    """What `pick` keeps under the records' mark now, or None (also when the mark cannot be read: the
+    route meets the failure again and answers as it always does)."""
+    try:
+        return pick(await query.read_soon())
+    except Exception:
+        return None
 
 
 async def send_kept(held: Kept, send: Send) -> None:
