@@ -17,6 +17,7 @@ from datetime import datetime
 from pathlib import Path
 
 import pytest
+from applications import application
 from emptied import empty_every_table
 from fastapi.testclient import TestClient
 from password_cost import cheap_password_hashing
@@ -33,7 +34,6 @@ from app.certificates.trust_bundle import forget_bundles
 from app.db import make_engine
 from app.grants import grant_app_role
 from app.inspections.models import Inspection
-from app.main import create_app
 from app.migrate import upgrade
 from app.ops.requests import flush_logs
 from app.stations.service import create_station
@@ -276,8 +276,8 @@ def session(engine: Engine) -> Iterator[Session]:
 
 @pytest.fixture
 def client(engine: Engine) -> Iterator[TestClient]:
-    """A TestClient on a fresh app (no station key)."""
-    with TestClient(create_app(), raise_server_exceptions=False) as client:
+    """A TestClient on the app of the current settings, as a fresh one would answer (no station key)."""
+    with TestClient(application(), raise_server_exceptions=False) as client:
         yield client
 
 
