@@ -12,7 +12,7 @@ import os
 import re
 import secrets
 import uuid
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from datetime import datetime
 from pathlib import Path
 
@@ -22,7 +22,7 @@ from emptied import empty_every_table
 from fastapi.testclient import TestClient
 from password_cost import cheap_password_hashing
 from regex_classes import keep_character_classes
-from sqlalchemy import Engine, create_engine, text, update
+from sqlalchemy import Engine, bindparam, create_engine, text, update
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session
@@ -263,6 +263,24 @@ def backdate(owner_engine: Engine) -> Callable[..., None]:
             connection.execute(
                 update(Inspection).where(Inspection.id == inspection_id).values(created_at=at, **columns)
             )
+
+    return rewrite
+
+
+@pytest.fixture
+def backdate_all(owner_engine: Engine) -> Callable[[Mapping[int, datetime]], None]:
+    """Rewrite many stored inspections' times (id -> time) in one transaction as the owner."""
+
+    def rewrite(times: Mapping[int, datetime]) -> None:
+        rows = [{"inspection_id": key, "at": at} for key, at in times.items()]
+        inspections = Inspection.metadata.tables[Inspection.__tablename__]
+        statement = (
+            update(inspections)
+            .where(inspections.c.id == bindparam("inspection_id"))
+            .values(created_at=bindparam("at"))
+        )
+        with owner_engine.begin() as connection, immutability_lifted(connection, {Inspection.__tablename__}):
+            connection.execute(statement, rows)
 
     return rewrite
 

@@ -6,7 +6,7 @@ the display zone, and with the days not stored yet or stored already."""
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from datetime import UTC, datetime, timedelta
 from decimal import Decimal
 from typing import Any
@@ -46,6 +46,13 @@ def moment(day: int, hour: int, minute: int = 0) -> datetime:
     return datetime(2026, 3, day, hour, minute, tzinfo=UTC)
 
 
+def record(session: Session, registration: str, *, front: Decimal, station: Station | None) -> int:
+    """Record an inspection of the vehicle (rear wheels 115 and 135 kg), uncommitted; its id."""
+    readings = WheelReadings((front,), (Decimal("115"),), (Decimal("135"),))
+    request = InspectionRequest(registration_number=registration, readings=readings)
+    return record_inspection(session, request=request, rules=Rules(), station=station).id
+
+
 def inspect(
     session: Session,
     backdate: Callable[..., None],
@@ -56,18 +63,15 @@ def inspect(
     at: datetime,
 ) -> None:
     """Store an inspection of the vehicle (rear wheels 115 and 135 kg) as if made at `at`."""
-    request = InspectionRequest(
-        registration_number=registration,
-        readings=WheelReadings((front,), (Decimal("115"),), (Decimal("135"),)),
-    )
-    stored = record_inspection(session, request=request, rules=Rules(), station=station)
+    stored = record(session, registration, front=front, station=station)
     session.commit()
-    backdate(stored.id, at)
+    backdate(stored, at)
 
 
 @pytest.fixture
-def history(session: Session, backdate: Callable[..., None]) -> list[Station]:
-    """Inspections at two stations and from the pages, compliant or not, on the day edges above."""
+def history(session: Session, backdate_all: Callable[[Mapping[int, datetime]], None]) -> list[Station]:
+    """Inspections at two stations and from the pages, compliant or not, on the day edges above
+    (stored, then their times rewritten, all at once)."""
     register_vehicle(
         session,
         registration_number="BDG 252 QH",
@@ -77,10 +81,13 @@ def history(session: Session, backdate: Callable[..., None]) -> list[Station]:
         seats=SEATS,
     )
     stations = [create_station(session, name=name)[0] for name in ("Agbara weighbridge", "Ikeja weighbridge")]
+    times = {}
     for i, (day, hour, minute) in enumerate(MOMENTS):
         front = Decimal("250") if i % 3 else Decimal("108")  # 250 kg at the front complies, 108 does not
         station = (stations[0], stations[1], None)[i % 3]
-        inspect(session, backdate, "BDG 252 QH", front=front, station=station, at=moment(day, hour, minute))
+        times[record(session, "BDG 252 QH", front=front, station=station)] = moment(day, hour, minute)
+    session.commit()
+    backdate_all(times)
     return stations
 
 

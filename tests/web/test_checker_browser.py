@@ -372,19 +372,24 @@ def y4m(frame: Image.Image, target: Path, frames: int = 10) -> Path:
     return target
 
 
-@pytest.mark.parametrize("code", PICTURED)
-def test_offline_by_the_camera(
-    code: str,
+@dataclass
+class Camera:
+    """A Chromium whose fake camera plays `video`: each start of the camera reads the file afresh."""
+
+    browser: Browser
+    video: Path
+
+
+@pytest.fixture(scope="module")
+def camera(
     browser_type: BrowserType,
     browser_type_launch_args: dict[str, Any],
-    browser_context_args: dict[str, Any],
-    guard: Guard,
-    papers: Papers,
-    api: TestClient,
-    tmp_path: Path,
-) -> None:
-    """Chromium's fake camera plays the worn picture framed as a phone held over the code would."""
-    video = y4m(qr_region(picture(api, papers, code, tmp_path)), tmp_path / "camera.y4m")
+    tmp_path_factory: pytest.TempPathFactory,
+) -> Iterator[Camera]:
+    """One Chromium with a fake camera for the module's camera tests (a launch costs seconds); each
+    test puts its own picture in the video file before the page starts the camera."""
+    video = tmp_path_factory.mktemp("camera") / "camera.y4m"
+    y4m(Image.new("RGB", (640, 480), "white"), video)  # a blank frame until a test puts its own
     args = [
         *CHROMIUM_ARGS,
         "--use-fake-device-for-media-stream",
@@ -392,11 +397,28 @@ def test_offline_by_the_camera(
         f"--use-file-for-fake-video-capture={video}",
     ]
     browser = browser_type.launch(**{**browser_type_launch_args, "args": args})
+    yield Camera(browser, video)
+    browser.close()
+
+
+@pytest.mark.parametrize("code", PICTURED)
+def test_offline_by_the_camera(
+    code: str,
+    camera: Camera,
+    browser_context_args: dict[str, Any],
+    guard: Guard,
+    papers: Papers,
+    api: TestClient,
+    tmp_path: Path,
+) -> None:
+    """Chromium's fake camera plays the worn picture framed as a phone held over the code would."""
+    played = y4m(qr_region(picture(api, papers, code, tmp_path)), tmp_path / "camera.y4m")
+    played.replace(camera.video)  # whole, at once: the camera never reads half a file
+    context = camera.browser.new_context(
+        **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
+    )
+    guard.watch(context)
     try:
-        context = browser.new_context(
-            **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
-        )
-        guard.watch(context)
         page = context.new_page()
         load_then_cut(context, page)
         made = made_at(page)
@@ -413,9 +435,8 @@ def test_offline_by_the_camera(
             page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
             page.locator("#camera-start").click()
             verdict(page, "clock_behind")
-        context.close()
     finally:
-        browser.close()
+        context.close()
 
 
 def test_the_scripts_verify_with_webcrypto_and_with_the_vendored_library(
