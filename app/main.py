@@ -63,6 +63,9 @@ def create_app() -> FastAPI:
         lifespan=lifespan,
         docs_url=None,  # install_docs: served from the package, not a CDN
         redoc_url=None,
+        # The service exports no OpenTelemetry (its metrics are Prometheus's, app/ops/metrics.py); off,
+        # FastAPI stops asking the global providers at every request whether someone set one up.
+        telemetry={"tracing": False, "metrics": False, "logs": False},
     )
     install_error_handlers(app)
     # Innermost: a kept public verification is answered inside every middleware, before the routing.
