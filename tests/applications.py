@@ -8,6 +8,7 @@ import json
 
 from fastapi import FastAPI
 from pydantic import SecretStr
+from starlette.datastructures import State
 
 from app.config import get_settings
 from app.main import create_app
@@ -30,7 +31,7 @@ def application() -> FastAPI:
         app = _applications[key] = create_app()
     else:
         configure_logging()  # as create_app does: a test may have changed the logging settings
-    app.state._state.clear()  # the per-app counters (rate limits) start from nothing, as in a new app
+    app.state = State()  # the per-app counters (rate limits) start from nothing, as in a new app
     return app
 
 
