@@ -4,8 +4,8 @@ Run by hand:  .venv/bin/python bench/door.py [--requests 20000] [--profile] 2> /
 
 Makes a fresh SQLite database in a temporary folder (removed at the end), takes the bundle once (so
 it is kept), then calls the app's ASGI callable with `If-None-Match` in a loop and prints the
-microseconds per request; with --profile, cProfile's 30 most costly functions by their own time. The access log is formatted
-and written to standard error, as when served: send it away.
+microseconds per request; with --profile, cProfile's 30 most costly functions by their own time. The
+access log is formatted and written to standard error, as when served: send it away.
 """
 
 from __future__ import annotations
@@ -97,6 +97,7 @@ def main() -> None:
         upgrade(get_engine())
         asyncio.run(measure(create_app(), args.requests, args.profile, sys.stdout))
         get_engine().dispose()
+
 
 if __name__ == "__main__":
     main()
