@@ -231,7 +231,8 @@ def is_outage(error: BaseException) -> bool:
     return isinstance(error, exc.DBAPIError) and error.connection_invalidated
 
 
-def _file_identity(path: str) -> tuple[int, int] | None:
+def file_identity(path: str) -> tuple[int, int] | None:
+    """The file at the path as (device, inode), or None when there is none."""
     try:
         status = os.stat(path)
     except OSError:
@@ -251,17 +252,17 @@ def _same_file_every_checkout(engine: Engine, path: str) -> None:
 
     @event.listens_for(engine, "do_connect")
     def _no_new_file(_dialect: Any, _record: Any, _cargs: Any, _cparams: Any) -> None:
-        if opened.is_set() and _file_identity(path) is None:
+        if opened.is_set() and file_identity(path) is None:
             raise sqlite3.OperationalError(f"unable to open database file: {path} is missing")
 
     @event.listens_for(engine, "connect")
     def _remember(_dbapi_connection: Any, record: Any) -> None:
-        record.info["file"] = _file_identity(path)
+        record.info["file"] = file_identity(path)
         opened.set()
 
     @event.listens_for(engine, "checkout")
     def _check(_dbapi_connection: Any, record: Any, _proxy: Any) -> None:
-        if _file_identity(path) != record.info.get("file"):
+        if file_identity(path) != record.info.get("file"):
             raise exc.DisconnectionError(f"the database file {path} was moved, replaced or removed")
 
 

@@ -18,6 +18,7 @@ from app.certificates.kept_door import KeptAnswersFirst
 from app.certificates.public import public_router
 from app.composition import api_router, callback_routers, hot_router, kept_endpoints, page_routers
 from app.config import get_settings
+from app.ops.bundle_first import install_bundle_revalidation_first
 from app.ops.docs import install_docs
 from app.ops.health import router as health_router
 from app.ops.liveness import install_liveness_first
@@ -85,6 +86,7 @@ def create_app() -> FastAPI:
     app.add_middleware(LanguageMiddleware)  # inside the request log: errors it meets are logged
     app.add_middleware(RequestContext)
     install_security_headers(app)
+    install_bundle_revalidation_first(app)  # outside every middleware: it gives their headers itself
     install_liveness_first(app)  # outermost: a probe meets none of the above
 
     return app

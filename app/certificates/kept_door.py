@@ -18,7 +18,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from app.certificates.answer_cache import CHANGE_MARK, Kept, answer_key, held_answer, is_kept
 from app.certificates.bundle_answer import bundle_response
-from app.certificates.trust_bundle import BUNDLE_MARK, held_bundle, is_bundle_kept
+from app.certificates.trust_bundle import BUNDLE_MARK, Built, held_bundle, is_bundle_kept
 from app.certificates.verify_json import accepts_json
 from app.config import get_settings
 from app.marks import Mark, MarkQuery
@@ -76,10 +76,7 @@ class KeptAnswersFirst:
         await send_kept(held, send)
 
     async def _bundle(self, scope: Scope, receive: Receive, send: Send) -> None:
-        settings = get_settings()
-        held = None
-        if _plain_get(scope) and is_bundle_kept(settings):
-            held = await _current(BUNDLE_MARK, lambda mark: held_bundle(settings, mark))
+        held = await current_bundle(scope)
         if held is None:
             await self.app(scope, receive, send)
             return
@@ -87,6 +84,14 @@ class KeptAnswersFirst:
         if_none_match = header(scope, b"if-none-match")
         answer = bundle_response(held, header(scope, b"accept-encoding") or "", if_none_match)
         await answer(scope, receive, send)
+
+
+async def current_bundle(scope: Scope) -> Built | None:
+    """The kept trust bundle when this is a plain GET and the bundle is still current, else None."""
+    settings = get_settings()
+    if not (_plain_get(scope) and is_bundle_kept(settings)):
+        return None
+    return await _current(BUNDLE_MARK, lambda mark: held_bundle(settings, mark))
 
 
 def _plain_get(scope: Scope) -> bool:

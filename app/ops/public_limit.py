@@ -20,6 +20,8 @@ from app.stations.rate_limit import RATE_LIMIT_RULE
 # the JSON verification, and the service's public files under /.well-known/ (the published keys; a
 # trust bundle beside them). A prefix match (str.startswith takes a tuple) keeps the check cheap.
 PUBLIC_PATHS = ("/verify", "/v/", "/V/", "/api/v1/verify/", "/.well-known/trikecert-", "/reminders")
+# Where a request's count is kept in its scope once counted (its Retry-After, or None within the limit).
+COUNTED = "trikecert.public_retry_after"
 
 
 def wants_json(scope: Scope) -> bool:
@@ -71,10 +73,24 @@ class PublicRateLimit:
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         """Count a public request of its address; beyond the limit answer 429 instead of the route."""
         if scope["type"] == "http" and scope["path"].startswith(PUBLIC_PATHS):
-            settings = get_settings()
-            limit = RateLimit(settings.public_rate_limit, settings.public_rate_window_seconds)
-            retry_after = windows(scope, "public", limit).count(client_address(scope))
+            limit = public_limit()
+            retry_after = counted_public_request(scope, limit)
             if retry_after is not None:
                 await too_many(scope, limit, retry_after)(scope, receive, send)
                 return
         await self.app(scope, receive, send)
+
+
+def public_limit() -> RateLimit:
+    """The public doors' limit under the current settings."""
+    settings = get_settings()
+    return RateLimit(settings.public_rate_limit, settings.public_rate_window_seconds)
+
+
+def counted_public_request(scope: Scope, limit: RateLimit) -> int | None:
+    """Count the request against its address once (a door ahead of the stack may have counted it
+    already): None while within the limit, else the seconds to wait."""
+    if COUNTED not in scope:
+        scope[COUNTED] = windows(scope, "public", limit).count(client_address(scope))
+    retry_after: int | None = scope[COUNTED]
+    return retry_after

@@ -62,15 +62,20 @@ class LanguageMiddleware:
 
         async def send_varying(message: Message) -> None:
             if message["type"] == "http.response.start":
-                headers = MutableHeaders(scope=message)
-                present = {v.strip().lower() for v in headers.get("vary", "").split(",") if v.strip()}
-                for name in VARY:
-                    if name.lower() not in present:
-                        headers.add_vary_header(name)
+                vary_by_language(message)
             await send(message)
 
         with use_locale(locale):
             await self.app(scope, receive, send_varying)
+
+
+def vary_by_language(start: Message) -> None:
+    """Name the request headers a page's words follow in the Vary of a response's start message."""
+    headers = MutableHeaders(scope=start)
+    present = {v.strip().lower() for v in headers.get("vary", "").split(",") if v.strip()}
+    for name in VARY:
+        if name.lower() not in present:
+            headers.add_vary_header(name)
 
 
 def local_path(target: str | None) -> str:
