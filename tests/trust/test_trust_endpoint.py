@@ -14,6 +14,7 @@ from prometheus_client import REGISTRY
 from sqlalchemy.orm import Session
 
 from app import config
+from app.api import address_limits
 from app.certificates.actors import Actor
 from app.certificates.service import revoke_certificate
 from app.main import create_app
@@ -121,6 +122,7 @@ def test_the_304_ahead_of_the_stack_is_logged_counted_and_limited_once_like_any_
     api: TestClient, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     _issue(api, "KTU 420 XA", COMPLIANT, COMPLIANT_READINGS)
+    monkeypatch.setattr(address_limits, "clock", lambda: 1_800_000_010.0)  # no window turns mid-test
     monkeypatch.setenv("TRIKECERT_PUBLIC_RATE_LIMIT", "4")
     config.get_settings.cache_clear()
     checker = TestClient(create_app(), base_url="https://testserver")  # counts of its own; over https
