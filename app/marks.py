@@ -68,12 +68,17 @@ class MarkQuery:
         if not url.startswith("sqlite"):
             return await run_sync(self.read)
         path = _plain_file(url)
-        if path is None:
-            return self.read()
+        if path is None:  # in memory (one per engine: the requests' own), or a URI's options
+            return self.read(None if _in_memory(url) else _event_loop_engine(url))
         if self._sqlite_sql is None:
             self._sqlite_sql = self._sql_for(url, _event_loop_engine(url).dialect)
         mark = _kept_reader(path).read(self._sqlite_sql)
         return self.read(_event_loop_engine(url)) if mark is None else mark
+
+
+@lru_cache(maxsize=8)
+def _in_memory(url: str) -> bool:
+    return make_url(url).database in (None, "", ":memory:")
 
 
 @lru_cache(maxsize=8)
