@@ -14,6 +14,7 @@ from datetime import date
 from decimal import Decimal, InvalidOperation
 
 from pydantic import ValidationError
+from sqlalchemy.exc import DBAPIError
 
 import app.models  # noqa: F401  (every table and the audit recorder: a command writes records too)
 from app import __version__
@@ -21,8 +22,9 @@ from app.audit.recorder import acting_from_command_line
 from app.certificates.cli import add_certificate_commands
 from app.cli_values import dash_safe
 from app.config import get_settings, settings_problems, trusted_proxies
-from app.db import get_engine, get_sessionmaker
+from app.db import get_engine, get_sessionmaker, is_outage
 from app.errors import ServiceError
+from app.migrate import is_at_head
 from app.stations.details import StationDetails, details_of
 from app.stations.models import Station
 from app.wording import verdict_mark
@@ -407,7 +409,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ServiceError as error:
         print(f"trikecert: {error.message}", file=sys.stderr)
         return 2
+    except DBAPIError as error:
+        problem = database_problem(error)
+        if problem is None:
+            raise
+        print(f"trikecert: {problem}", file=sys.stderr)
+        return 2
     return code
+
+
+def database_problem(error: DBAPIError) -> str | None:
+    """What an operator must do about a database error a command met, or None for a fault of the code
+    (its traceback is what a maintainer needs)."""
+    try:
+        migrated = is_at_head(get_engine())
+    except DBAPIError as unanswered:
+        return _not_answering(unanswered)
+    if not migrated:
+        return "the database is not migrated to this version: run `trikecert migrate` first"
+    return _not_answering(error) if is_outage(error) else None
+
+
+def _not_answering(error: DBAPIError) -> str:
+    first_line = str(error.orig).strip().splitlines()[0] if str(error.orig).strip() else type(error).__name__
+    return f"the database did not answer ({first_line}); check that it runs, then try again"
 
 
 if __name__ == "__main__":
