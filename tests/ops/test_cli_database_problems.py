@@ -16,13 +16,17 @@ from app.cli import main
 def database_at(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> Iterator[None]:
     """Commands run against the URL set in TRIKECERT_DATABASE_URL by the test (caches cleared)."""
     monkeypatch.setenv("TRIKECERT_SIGNING_KEY_FILE", str(tmp_path / "signing-key.pem"))
-    config.get_settings.cache_clear()
-    db.get_engine.cache_clear()
+    _forget_settings_and_engines()
     yield
     db.get_engine().dispose()
     monkeypatch.undo()
+    _forget_settings_and_engines()
+
+
+def _forget_settings_and_engines() -> None:
     config.get_settings.cache_clear()
     db.get_engine.cache_clear()
+    db.get_sessionmaker.cache_clear()
 
 
 COMMANDS = [
