@@ -431,8 +431,8 @@ def database_problem(error: DBAPIError) -> str | None:
 
 
 def _not_answering(error: DBAPIError) -> str:
-    first_line = str(error.orig).strip().splitlines()[0] if str(error.orig).strip() else type(error).__name__
-    return f"the database did not answer ({first_line}); check that it runs, then try again"
+    said = str(error.orig).strip() or type(error).__name__
+    return f"the database did not answer ({said.splitlines()[0]}); check that it runs, then try again"
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ from app.certificates.public import trust_bundle
 from app.certificates.trust_bundle import Built
 from app.ops.public_limit import counted_public_request, public_limit
 from app.ops.requests import REQUEST_ID_HEADER, record_request, request_id_of
-from app.web.headers import HSTS
+from app.web.headers import security_headers
 from app.web.language import vary_by_language
 from app.web.scope import header
 
@@ -43,23 +43,28 @@ class BundleRevalidationFirst:
             await self.app(scope, receive, send)
             return
         started = time.perf_counter()
-        if_none_match = header(scope, b"if-none-match")
-        if if_none_match is None or counted_public_request(scope, public_limit()) is not None:
-            await self.app(scope, receive, send)
-            return
-        held = await current_bundle(scope)
-        zipped = accepts_gzip(header(scope, b"accept-encoding") or "")
-        etag = "" if held is None else held.gzip_etag if zipped else held.etag
-        if held is None or not etag_matches(if_none_match, etag):
+        head = await self._not_modified(scope)
+        if head is None:
             await self.app(scope, receive, send)
             return
         request_id = request_id_of(scope)
-        headers = [*self._head(held, zipped, etag), (REQUEST_ID_HEADER, request_id.encode()), _NOSNIFF]
-        if scope.get("scheme") == "https":
-            headers.append((b"strict-transport-security", HSTS.encode()))
+        headers = [*head, (REQUEST_ID_HEADER, request_id.encode()), *security_headers(scope)]
         await send({"type": "http.response.start", "status": 304, "headers": headers})
         await send({"type": "http.response.body", "body": b""})
         record_request(scope, request_id=request_id, handler=HANDLER, status=304, started=started)
+
+    async def _not_modified(self, scope: Scope) -> Headers | None:
+        """The 304's headers before the request id when the client holds the current bundle and is
+        within the limit (counted here, once), else None."""
+        if_none_match = header(scope, b"if-none-match")
+        if if_none_match is None or counted_public_request(scope, public_limit()) is not None:
+            return None
+        held = await current_bundle(scope)
+        if held is None:
+            return None
+        zipped = accepts_gzip(header(scope, b"accept-encoding") or "")
+        etag = held.gzip_etag if zipped else held.etag
+        return self._head(held, zipped, etag) if etag_matches(if_none_match, etag) else None
 
     def _head(self, held: Built, zipped: bool, etag: str) -> Headers:
         """The route's own 304 headers for this tag, with the language's Vary (made once per tag)."""
@@ -72,9 +77,6 @@ class BundleRevalidationFirst:
                 self._heads.clear()
             head = self._heads[etag] = start["headers"]
         return head
-
-
-_NOSNIFF = (b"x-content-type-options", b"nosniff")
 
 
 def install_bundle_revalidation_first(app: FastAPI) -> None:

@@ -15,13 +15,12 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from app.ops.health import HEALTHY_BODY
 from app.ops.requests import REQUEST_ID_HEADER, record_request, request_id_of
-from app.web.headers import HSTS
+from app.web.headers import security_headers
 
 PATH = "/healthz"
 _HEADERS = [
     (b"content-type", b"application/json"),
     (b"content-length", str(len(HEALTHY_BODY)).encode()),
-    (b"x-content-type-options", b"nosniff"),
 ]
 
 
@@ -38,9 +37,7 @@ class LivenessFirst:
             return
         started = time.perf_counter()
         request_id = request_id_of(scope)
-        headers = [*_HEADERS, (REQUEST_ID_HEADER, request_id.encode())]
-        if scope.get("scheme") == "https":
-            headers.append((b"strict-transport-security", HSTS.encode()))
+        headers = [*_HEADERS, (REQUEST_ID_HEADER, request_id.encode()), *security_headers(scope)]
         await send({"type": "http.response.start", "status": 200, "headers": headers})
         await send({"type": "http.response.body", "body": HEALTHY_BODY})
         record_request(scope, request_id=request_id, handler="healthz", status=200, started=started)
