@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import functools
-import logging
 import multiprocessing
 import re
 
+from access_lines import access_lines
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, text
 from study_data import STUDY_READINGS, STUDY_VEHICLE
@@ -84,32 +84,16 @@ def test_metrics_count_requests_and_stored_inspections_by_verdict(api: TestClien
     assert 'trikecert_certificates{verdict="non_compliant"} 1.0' in api.get("/metrics").text
 
 
-class _Kept(logging.Handler):
-    """Keeps the records it is given."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.records: list[logging.LogRecord] = []
-
-    def emit(self, record: logging.LogRecord) -> None:
-        self.records.append(record)
-
-
 def test_a_probe_answered_ahead_of_the_framework_is_still_logged_with_its_headers(client: TestClient) -> None:
-    kept = _Kept()
-    access = logging.getLogger("trikecert.access")
-    access.addHandler(kept)
-    try:
+    with access_lines() as lines:
         response = client.get("/healthz", headers={"X-Request-ID": "probe-1", "X-Forwarded-Proto": "https"})
-    finally:
-        access.removeHandler(kept)
 
     assert response.status_code == 200
     assert response.headers["content-type"] == "application/json"
     assert response.headers["x-content-type-options"] == "nosniff"
     assert "server" not in response.headers
     assert "strict-transport-security" not in response.headers, "https said by no trusted proxy"
-    [line] = [getattr(r, "fields", {}) for r in kept.records]
+    [line] = lines
     assert line["path"] == "/healthz"
     assert (line["handler"], line["status"], line["request_id"]) == ("healthz", 200, "probe-1")
 

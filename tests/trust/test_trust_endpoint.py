@@ -4,10 +4,10 @@ gzip when asked, no-cache; a revocation is in the very next answer."""
 from __future__ import annotations
 
 import gzip
-import logging
 from typing import Any
 
 import pytest
+from access_lines import access_lines
 from fastapi.testclient import TestClient
 from offline_cases import COMPLIANT, COMPLIANT_READINGS, _issue, trust_anchor
 from prometheus_client import REGISTRY
@@ -107,17 +107,6 @@ def test_a_kept_bundle_is_served_before_the_router_exactly_as_the_route_serves_i
     assert after.headers["etag"] != by_route[0].headers["etag"]
 
 
-class _Kept(logging.Handler):
-    """Keeps the access log's records."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.records: list[logging.LogRecord] = []
-
-    def emit(self, record: logging.LogRecord) -> None:
-        self.records.append(record)
-
-
 def test_the_304_ahead_of_the_stack_is_logged_counted_and_limited_once_like_any_answer(
     api: TestClient, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -126,20 +115,16 @@ def test_the_304_ahead_of_the_stack_is_logged_counted_and_limited_once_like_any_
     monkeypatch.setenv("TRIKECERT_PUBLIC_RATE_LIMIT", "4")
     config.get_settings.cache_clear()
     checker = TestClient(create_app(), base_url="https://testserver")  # counts of its own; over https
-    kept = _Kept()
-    access = logging.getLogger("trikecert.access")
-    access.addHandler(kept)
     try:
-        first = checker.get(PATH)
-        tag = first.headers["etag"]
-        ahead = checker.get(PATH, headers={"If-None-Match": tag, "X-Request-ID": "checker-1"})  # no query
-        by_route = checker.get(
-            f"{PATH}?via=route", headers={"If-None-Match": tag, "X-Request-ID": "checker-1"}
-        )
-        other_tag = checker.get(PATH, headers={"If-None-Match": '"another"'})
-        over = checker.get(PATH, headers={"If-None-Match": tag})
+        with access_lines() as lines:
+            first = checker.get(PATH)
+            tag = first.headers["etag"]
+            asked = {"If-None-Match": tag, "X-Request-ID": "checker-1"}
+            ahead = checker.get(PATH, headers=asked)  # no query: answered ahead of the stack
+            by_route = checker.get(f"{PATH}?via=route", headers=asked)
+            other_tag = checker.get(PATH, headers={"If-None-Match": '"another"'})
+            over = checker.get(PATH, headers={"If-None-Match": tag})
     finally:
-        access.removeHandler(kept)
         config.get_settings.cache_clear()
 
     # Each request counted once against the limit of 4, wherever it was answered.
@@ -147,7 +132,6 @@ def test_the_304_ahead_of_the_stack_is_logged_counted_and_limited_once_like_any_
     assert statuses == [200, 304, 304, 200, 429]
     assert ahead.headers["strict-transport-security"] == "max-age=31536000"
     assert list(ahead.headers.multi_items()) == list(by_route.headers.multi_items())
-    lines = [getattr(record, "fields", {}) for record in kept.records]
     assert [(line["handler"], line["status"]) for line in lines] == [
         ("trust_bundle", 200),
         ("trust_bundle", 304),
