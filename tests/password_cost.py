@@ -18,7 +18,7 @@ from argon2 import PasswordHasher
 from app.accounts import login, service
 
 PRODUCTION_HASHER: PasswordHasher = service._hasher
-PRODUCTION_DUMMY_HASH: str = login._DUMMY_HASH
+PRODUCTION_DUMMY_HASH: str = login.unknown_email_hash()
 TEST_HASHER = PasswordHasher(time_cost=1, memory_cost=8, parallelism=1)
 
 
@@ -27,5 +27,6 @@ def cheap_password_hashing() -> Iterator[None]:
     """Hash and verify at TEST_HASHER's cost, the unknown-email dummy hash included, while inside."""
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(service, "_hasher", TEST_HASHER)
-        patch.setattr(login, "_DUMMY_HASH", TEST_HASHER.hash("not a real password, only for timing"))
+        cheap_dummy = TEST_HASHER.hash("not a real password, only for timing")
+        patch.setattr(login, "unknown_email_hash", lambda: cheap_dummy)
         yield

@@ -4,6 +4,7 @@ start a session."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
@@ -14,8 +15,14 @@ from app.accounts.service import hash_password, normalise_email, verify_password
 from app.accounts.sessions import NewSession, start_session
 from app.config import Settings
 
-# Verified against when the email is unknown, so a wrong email costs as long as a wrong password.
-_DUMMY_HASH = hash_password("not a real password, only for timing")
+
+@cache
+def unknown_email_hash() -> str:
+    """What a password is verified against when the email is unknown, so a wrong email costs as long
+    as a wrong password."""
+    # Made at the first such sign-in, not at import: a hash at production cost would be paid by every
+    # process that starts (each worker, each command), most of which never sign anyone in.
+    return hash_password("not a real password, only for timing")
 
 
 @dataclass(frozen=True)
@@ -40,7 +47,7 @@ def sign_in(
         return SignInResult(started=None, outcome=throttle.LOCKED_OUT, locked=check)
     user = session.scalar(select(User).where(func.lower(User.email) == email))
     if user is None:
-        verify_password(_DUMMY_HASH, password)
+        verify_password(unknown_email_hash(), password)
         outcome = throttle.BAD_CREDENTIALS
     elif not verify_password(user.password_hash, password):
         outcome = throttle.BAD_CREDENTIALS

@@ -12,7 +12,6 @@ from starlette.responses import Response
 
 from app.certificates.models import Certificate
 from app.certificates.records import certificate_pdf, certificate_status, verify_base
-from app.certificates.stamp import stamp_of, stamped_pdf
 from app.certificates.wording import public_status
 from app.config import get_settings
 
@@ -41,6 +40,9 @@ def pdf_response(session: Session, certificate: Certificate, if_none_match: str 
     In force, the ETag is the SHA-256 of the stored bytes; stamped, a hash of that and the stamp's
     words, so a copy fetched before the revocation is never answered 304.
     """
+    # The PDF library is loaded by the first paper a process serves, not by every process that starts.
+    from app.certificates.stamp import stamp_of, stamped_pdf
+
     status = certificate_status(certificate)
     stamp = stamp_of(certificate, status, verify_base(get_settings()))
     tag = certificate.pdf_sha256 if stamp is None else stamp.etag(certificate.pdf_sha256)

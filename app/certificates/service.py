@@ -19,7 +19,6 @@ from sqlalchemy.orm import Session
 from app.certificates.actors import Actor, Forbidden
 from app.certificates.facts import facts_of
 from app.certificates.models import Certificate, CertificateAudit, CertificateRevocation
-from app.certificates.pdf import CertificateDocument, render_pdf
 from app.certificates.records import certificate_status, get_certificate, verify_base
 from app.certificates.sequence import allocate_number
 from app.config import SECOND_LANGUAGES, Settings
@@ -310,6 +309,9 @@ def _create(
     )
     token = sign_payload(claims, kid=signer.kid, key=signer)
     base = verify_base(settings)
+    # The PDF library is loaded by the first paper a process makes, not by every process that starts.
+    from app.certificates.pdf import CertificateDocument, render_pdf
+
     pdf = render_pdf(
         CertificateDocument(
             number=number,
