@@ -10,7 +10,7 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass
 from datetime import datetime
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from sqlalchemy import and_, or_, select
 from sqlalchemy.exc import IntegrityError
@@ -36,7 +36,18 @@ from app.trust.signing import Claims, issuer_claim, qr_url_of, sign_payload
 from app.trust.validity import add_months, local_date
 from app.wording import document_kind, verdict_mark
 
+if TYPE_CHECKING:
+    from app.certificates.pdf import CertificateDocument
+
 REASON_LENGTH = 1000
+
+
+def render_pdf(document: CertificateDocument) -> bytes:
+    """The paper's PDF, the PDF library loaded by the first paper a process makes (not by every
+    process that starts: each worker, each command)."""
+    from app.certificates import pdf
+
+    return pdf.render_pdf(document)
 
 
 @dataclass(frozen=True)
@@ -309,8 +320,7 @@ def _create(
     )
     token = sign_payload(claims, kid=signer.kid, key=signer)
     base = verify_base(settings)
-    # The PDF library is loaded by the first paper a process makes, not by every process that starts.
-    from app.certificates.pdf import CertificateDocument, render_pdf
+    from app.certificates.pdf import CertificateDocument  # beside the PDF library: see render_pdf
 
     pdf = render_pdf(
         CertificateDocument(
