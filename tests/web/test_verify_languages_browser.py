@@ -23,16 +23,12 @@ from app.stability import WheelReadings
 from app.trust.numbers import check_letter
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
-from web.webtools import SCREENSHOTS, STUDY_SEATS
+from web.webtools import SCREENSHOTS, STUDY_SEATS, wheel_readings
 
 pytestmark = pytest.mark.browser
 
 WIDTH = 360
 LOCALES = ("en", "ha", "yo", "ig", "pcm")
-
-
-def _readings(front: int, left: int, right: int, overall: int) -> WheelReadings:
-    return WheelReadings(*((Decimal(v),) for v in (front, left, right, overall)))
 
 
 @pytest.fixture
@@ -59,11 +55,11 @@ def numbers(session: Session, admin: User, study_vehicle: Vehicle) -> dict[str, 
             wheelbase_m=Decimal("2.000"),
             seats=STUDY_SEATS,
         )
-    old = issue("BDG 252 QH", _readings(200, 80, 80, 360))
+    old = issue("BDG 252 QH", wheel_readings(200, 80, 80, 360))
     newer = reissue_certificate(session, number=old, actor=actor, reason="lost", settings=settings).number
-    revoked = issue("LAG 888 YB", _readings(200, 80, 80, 360))
+    revoked = issue("LAG 888 YB", wheel_readings(200, 80, 80, 360))
     revoke_certificate(session, number=revoked, actor=actor, reason="Wrong wheel readings entered")
-    refusal = issue("KTU 123 XA", _readings(100, 120, 140, 360))
+    refusal = issue("KTU 123 XA", wheel_readings(100, 120, 140, 360))
     session.commit()
     return {
         "certified": newer,

@@ -29,16 +29,19 @@ from app.stations.service import create_station
 from app.type_assessments.service import TypeRequest, create_type_assessment
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
-from web.webtools import ADMIN_EMAIL, PASSWORD, SCREENSHOTS, STUDY_SEATS, TAKE_SCREENSHOTS, weigh_study_fleet
+from web.webtools import (
+    ADMIN_EMAIL,
+    PASSWORD,
+    SCREENSHOTS,
+    STUDY_SEATS,
+    TAKE_SCREENSHOTS,
+    weigh_study_fleet,
+    wheel_readings,
+)
 
 pytestmark = pytest.mark.browser
 
 WIDTH = 360
-
-
-def readings(front: int, left: int, right: int, overall: int) -> WheelReadings:
-    """One reading per wheel and the overall weight, in kg."""
-    return WheelReadings(*((Decimal(v),) for v in (front, left, right, overall)))
 
 
 @dataclass(frozen=True)
@@ -93,8 +96,8 @@ def records(session: Session, admin: User, officer: User, study_vehicle: Vehicle
         )
         return record_inspection(session, request=request, rules=rules, station=station).id
 
-    refused = weigh("BDG 252 QH", readings(108, 115, 135, 359), with_lift=True)
-    certified = weigh("BDG 252 QH", readings(200, 80, 80, 360), with_lift=True)
+    refused = weigh("BDG 252 QH", wheel_readings(108, 115, 135, 359), with_lift=True)
+    certified = weigh("BDG 252 QH", wheel_readings(200, 80, 80, 360), with_lift=True)
     actor = Actor.of_user(admin)
     certificate = issue_certificate(session, inspection_id=certified, actor=actor, settings=settings)
     for plate in ("LAG 888 YB", "KTU 123 XA"):
@@ -109,12 +112,15 @@ def records(session: Session, admin: User, officer: User, study_vehicle: Vehicle
             seats=STUDY_SEATS,
         )
     revoked = issue_certificate(
-        session, inspection_id=weigh("LAG 888 YB", readings(200, 80, 80, 360)), actor=actor, settings=settings
+        session,
+        inspection_id=weigh("LAG 888 YB", wheel_readings(200, 80, 80, 360)),
+        actor=actor,
+        settings=settings,
     ).certificate.number
     revoke_certificate(session, number=revoked, actor=actor, reason="Wrong wheel readings entered")
     refusal = issue_certificate(
         session,
-        inspection_id=weigh("KTU 123 XA", readings(100, 120, 140, 360)),
+        inspection_id=weigh("KTU 123 XA", wheel_readings(100, 120, 140, 360)),
         actor=actor,
         settings=settings,
     ).certificate.number

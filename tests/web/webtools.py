@@ -56,6 +56,11 @@ TAKE_SCREENSHOTS = os.environ.get("TRIKECERT_SCREENSHOTS") == "1"
 _TOKEN = re.compile(r'name="(csrf_token|form_token)" value="([^"]*)"')
 
 
+def wheel_readings(front: int, left: int, right: int, overall: int) -> WheelReadings:
+    """One reading per wheel and the overall weight, in kg."""
+    return WheelReadings(*((Decimal(kg),) for kg in (front, left, right, overall)))
+
+
 def hidden(html: str, name: str = "csrf_token") -> str:
     """The value of a hidden token field in a page."""
     for found, value in _TOKEN.findall(html):
