@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import html
 import re
-from decimal import Decimal
 
 import pytest
 from fastapi.testclient import TestClient
@@ -14,8 +13,8 @@ from sqlalchemy.orm import Session
 from app.config import get_settings
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionRequest, record_inspection
-from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
+from web.webtools import wheel_readings
 
 # The study's sentence at its default target and ballast position, in each language (the catalogs'
 # words, glossary terms: ballast, front wheel, tyre, rear bench as on the form's radio buttons).
@@ -84,7 +83,7 @@ ENGLISH = [
 
 @pytest.fixture
 def study(session: Session, study_vehicle: Vehicle) -> Inspection:
-    readings = WheelReadings((Decimal("108"),), (Decimal("115"),), (Decimal("135"),), (Decimal("359"),))
+    readings = wheel_readings(108, 115, 135, 359)
     return record_inspection(
         session,
         request=InspectionRequest(registration_number="BDG252QH", readings=readings),

@@ -25,9 +25,15 @@ from app.db import get_sessionmaker, utcnow
 from app.inspections.service import InspectionRequest, record_inspection
 from app.notifications.models import OutboxMessage, Subscription
 from app.notifications.worker import Pass, run_once
-from app.stability import WheelReadings
 from app.vehicles.service import register_vehicle
-from web.webtools import SCREENSHOTS, STUDY_SEATS, TAKE_SCREENSHOTS, axe_violations, save_at_both_widths
+from web.webtools import (
+    SCREENSHOTS,
+    STUDY_SEATS,
+    TAKE_SCREENSHOTS,
+    axe_violations,
+    save_at_both_widths,
+    wheel_readings,
+)
 
 pytestmark = pytest.mark.browser
 
@@ -56,7 +62,7 @@ def expires(session: Session) -> datetime:
         wheelbase_m=Decimal("2.000"),
         seats=STUDY_SEATS,
     )
-    readings = WheelReadings(*((Decimal(kg),) for kg in (200, 80, 80, 360)))
+    readings = wheel_readings(200, 80, 80, 360)
     request = InspectionRequest(registration_number="KTU 417 XA", readings=readings)
     inspection = record_inspection(session, request=request, rules=config.get_settings().rules())
     issued = issue_certificate(

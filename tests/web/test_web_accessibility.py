@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -17,9 +16,8 @@ from app.accounts.models import User
 from app.config import get_settings
 from app.inspections.models import Inspection
 from app.inspections.service import InspectionRequest, record_inspection
-from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
-from web.webtools import ADMIN_EMAIL, PASSWORD, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations
+from web.webtools import ADMIN_EMAIL, PASSWORD, SCREENSHOTS, TAKE_SCREENSHOTS, axe_violations, wheel_readings
 
 pytestmark = pytest.mark.browser
 
@@ -27,7 +25,7 @@ pytestmark = pytest.mark.browser
 @pytest.fixture
 def study_inspection(session: Session, study_vehicle: Vehicle, admin: User) -> Inspection:
     """The study's inspection of BDG 252 QH, recorded by the admin."""
-    readings = WheelReadings((Decimal(108),), (Decimal(115),), (Decimal(135),), (Decimal(359),))
+    readings = wheel_readings(108, 115, 135, 359)
     return record_inspection(
         session,
         request=InspectionRequest(registration_number="BDG252QH", readings=readings),

@@ -4,7 +4,6 @@ axe-clean; with TRIKECERT_SCREENSHOTS=1 the section is saved as docs/screenshots
 from __future__ import annotations
 
 import os
-from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -15,9 +14,8 @@ from sqlalchemy.orm import Session
 from app.accounts.models import User
 from app.config import get_settings
 from app.inspections.service import InspectionRequest, record_inspection
-from app.stability import WheelReadings
 from app.vehicles.models import Vehicle
-from web.webtools import OFFICER_EMAIL, PASSWORD, REPO, axe_violations
+from web.webtools import OFFICER_EMAIL, PASSWORD, REPO, axe_violations, wheel_readings
 
 pytestmark = pytest.mark.browser
 
@@ -32,7 +30,7 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
     officer: User,
     axe_script: Path,
 ) -> None:
-    readings = WheelReadings((Decimal(108),), (Decimal(115),), (Decimal(135),), (Decimal(359),))
+    readings = wheel_readings(108, 115, 135, 359)
     inspection = record_inspection(
         session,
         request=InspectionRequest(registration_number="BDG252QH", readings=readings),

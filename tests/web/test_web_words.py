@@ -3,21 +3,18 @@ too, and in a date box's hint), a gap as "Not recorded", a station named with br
 
 from __future__ import annotations
 
-from decimal import Decimal
-
 from fastapi.testclient import TestClient
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
 from app.config import get_settings
 from app.inspections.service import InspectionRequest, record_inspection
-from app.stability import WheelReadings
 from app.stations.service import create_station
 from app.vehicles.models import Vehicle
 from app.web.formatting import local_today, long_date
-from web.webtools import ADMIN_EMAIL, sign_in
+from web.webtools import ADMIN_EMAIL, sign_in, wheel_readings
 
-STUDY = WheelReadings((Decimal(108),), (Decimal(115),), (Decimal(135),), (Decimal(359),))
+STUDY = wheel_readings(108, 115, 135, 359)
 WEEKDAYS = ("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday", "Sunday")
 
 
