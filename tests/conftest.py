@@ -8,6 +8,7 @@ Clean-up and `owner_engine` use the owner."""
 
 from __future__ import annotations
 
+import gc
 import os
 import re
 import secrets
@@ -102,6 +103,16 @@ def pytest_collection(session: pytest.Session) -> None:
     """Before collecting (pytest has started): Hypothesis keeps each regex character class's strategy
     (tests/regex_classes.py), which tests/api/test_schemathesis.py builds while being collected."""
     keep_character_classes()
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """What collection left (modules, the app's metadata, schemathesis's strategies: 600,000 objects,
+    none of them garbage) is moved out of the cyclic collector's way, and the collector runs less
+    often: the tests' own garbage is still collected, without walking all that again each time
+    (tests/api and tests/certificates: 6.0 s of collection in 7,441 passes, 3.4 s in 1,628)."""
+    gc.collect()
+    gc.freeze()
+    gc.set_threshold(50_000, 20, 100)
 
 
 @pytest.fixture(scope="session", autouse=True)
