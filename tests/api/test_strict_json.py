@@ -10,11 +10,11 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 from openapi_walk import SCHEMA, field_name, leaves, place, resolve, sample, send_json
-from sqlalchemy import Engine, func, select
+from row_counts import rows_per_table
+from sqlalchemy import Engine
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
 from app.api.limits import MAX_LIST_ITEMS, MAX_OBJECTS
-from app.db import Base
 
 VEHICLES = "/api/v1/vehicles"
 INSPECTIONS = "/api/v1/inspections"
@@ -23,12 +23,7 @@ MIB = 1024 * 1024
 
 def counts(engine: Engine) -> dict[str, int]:
     """Rows per table, except the station rate limit's window (every request counts in it)."""
-    with engine.connect() as connection:
-        return {
-            t.name: connection.scalar(select(func.count()).select_from(t)) or 0
-            for t in Base.metadata.sorted_tables
-            if t.name != "station_rate_window"
-        }
+    return rows_per_table(engine, leave_out={"station_rate_window"})
 
 
 @pytest.fixture

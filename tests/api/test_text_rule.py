@@ -15,11 +15,11 @@ from urllib.parse import quote
 import pytest
 from fastapi.testclient import TestClient
 from openapi_walk import SCHEMA, field_name, leaves, options, place, sample, send_json
-from sqlalchemy import Engine, func, select
+from row_counts import rows_per_table
+from sqlalchemy import Engine
 from text_classes import INVISIBLE_CLASSES, named
 
 from app.api.fields import TEXT_PATTERN
-from app.db import Base
 
 # One of each class the rule refuses, with the rule the API must name.
 BAD_CHARACTERS: dict[str, tuple[str, str]] = {
@@ -81,12 +81,7 @@ TYPE_ASSESSMENTS = "/api/v1/type-assessments"
 
 def counts(engine: Engine) -> dict[str, int]:
     """Rows per table, except the station rate limit's window (every request counts in it)."""
-    with engine.connect() as connection:
-        return {
-            t.name: connection.scalar(select(func.count()).select_from(t)) or 0
-            for t in Base.metadata.sorted_tables
-            if t.name != "station_rate_window"
-        }
+    return rows_per_table(engine, leave_out={"station_rate_window"})
 
 
 def prepare(api: TestClient, url: str) -> None:

@@ -19,7 +19,8 @@ import pyotp
 import pytest
 from fastapi.routing import iter_route_contexts
 from fastapi.testclient import TestClient
-from sqlalchemy import CompoundSelect, Engine, Select, String, Text, cast, func, select, union_all
+from row_counts import rows_per_table
+from sqlalchemy import CompoundSelect, Engine, String, Text, cast, select, union_all
 from sqlalchemy.orm import Session
 from text_classes import FOREIGN_DIGITS, INVISIBLE_CLASSES, named
 
@@ -164,34 +165,29 @@ def send(client: TestClient, form: Form, values: dict[str, str]) -> Any:
 
 # Counts of closed days, derived from the records and kept by whichever page reads them first
 # (app/statistics/models.py): not input, so a refused request may fill them.
-# The statistics' stored counts (app/statistics/models.py): derived from the records, not records.
 DERIVED = {name for name in Base.metadata.tables if name.startswith("statistics_")}
 
 
 def snapshot(engine: Engine) -> tuple[dict[str, int], list[str]]:
     """Rows per table, and every text stored in any column (derived counts aside), in two statements
     (the test takes hundreds of snapshots)."""
-    names, rows, every_text = snapshot_statements()
     with engine.connect() as connection:
-        counts = dict(zip(names, connection.execute(rows).one(), strict=True))
-        texts = [text for text in connection.scalars(every_text) if text is not None]
-    return counts, texts
+        texts = [text for text in connection.scalars(every_text_statement()) if text is not None]
+    return rows_per_table(engine, leave_out=DERIVED), texts
 
 
 @cache
-def snapshot_statements() -> tuple[list[str], Select[Any], CompoundSelect[Any]]:
-    """The tables a snapshot reads, the statement counting their rows, the one reading their texts."""
-    tables = [table for table in Base.metadata.sorted_tables if table.name not in DERIVED]
-    rows = select(*(select(func.count()).select_from(table).scalar_subquery() for table in tables))
-    every_text = union_all(
+def every_text_statement() -> CompoundSelect[Any]:
+    """The statement reading every text stored in any column of the tables a snapshot reads."""
+    return union_all(
         *(
             select(cast(column, Text))
-            for table in tables
+            for table in Base.metadata.sorted_tables
+            if table.name not in DERIVED
             for column in table.columns
             if isinstance(column.type, String | Text)
         )
     )
-    return [table.name for table in tables], rows, every_text
 
 
 # ---- the pages, from the app's route table --------------------------------------------------------
