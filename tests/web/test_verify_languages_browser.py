@@ -1,6 +1,7 @@
 """The public verify page in every state and every language on a 360 px phone, in Debian's Chromium:
-nothing sticks out sideways. The screenshots are saved to docs/screenshots/i18n/verify-STATE-LL.png:
-    .venv/bin/pytest -p no:cacheprovider tests/web/test_verify_languages_browser.py
+nothing sticks out sideways. With TRIKECERT_SCREENSHOTS=1 the screenshots are saved to
+docs/screenshots/i18n/verify-STATE-LL.png (a plain run leaves the checkout as it was):
+    TRIKECERT_SCREENSHOTS=1 .venv/bin/pytest -p no:cacheprovider tests/web/test_verify_languages_browser.py
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from app.stability import WheelReadings
 from app.trust.numbers import check_letter
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
-from web.webtools import SCREENSHOTS, STUDY_SEATS, wheel_readings
+from web.webtools import SCREENSHOTS, STUDY_SEATS, TAKE_SCREENSHOTS, wheel_readings
 
 pytestmark = pytest.mark.browser
 
@@ -80,7 +81,6 @@ def test_the_verify_page_fits_a_360_px_phone_in_every_state_and_language(
 ) -> None:
     context = browser.new_context(**{**browser_context_args, "viewport": {"width": WIDTH, "height": 740}})
     target = SCREENSHOTS / "i18n"
-    target.mkdir(parents=True, exist_ok=True)
     try:
         page = context.new_page()
         for state, number in numbers.items():
@@ -94,9 +94,9 @@ def test_the_verify_page_fits_a_360_px_phone_in_every_state_and_language(
                 page.goto(f"/language/{locale}?next=/verify/{number}")
                 assert page.locator("#headline").count() == 1, (state, locale)
                 assert page.locator("html").get_attribute("lang") == ("en-GB" if locale == "en" else locale)
-                page.screenshot(
-                    path=str(target / f"verify-{state}-{locale}.png")
-                )  # the first screen: the banner
+                if TAKE_SCREENSHOTS:  # the first screen: the banner
+                    target.mkdir(parents=True, exist_ok=True)
+                    page.screenshot(path=str(target / f"verify-{state}-{locale}.png"))
                 assert page.evaluate("document.documentElement.scrollWidth") <= WIDTH, (state, locale)
     finally:
         context.close()
