@@ -24,7 +24,6 @@ from app.cli_values import dash_safe
 from app.config import get_settings, settings_problems, trusted_proxies
 from app.db import get_engine, get_sessionmaker, is_outage
 from app.errors import ServiceError
-from app.migrate import is_at_head
 from app.stations.details import StationDetails, details_of
 from app.stations.models import Station
 from app.wording import verdict_mark
@@ -421,6 +420,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 def database_problem(error: DBAPIError) -> str | None:
     """What an operator must do about a database error a command met, or None for a fault of the code
     (its traceback is what a maintainer needs)."""
+    # Alembic (a tenth of a second) is read only when a command meets a database error.
+    from app.migrate import is_at_head
+
     try:
         migrated = is_at_head(get_engine())
     except DBAPIError as unanswered:

@@ -3,30 +3,16 @@
 Ids are INTEGER columns: 32 bits on PostgreSQL, 64 on SQLite. A larger number cannot name a stored
 record on any backend, and handed to the database it would overflow (a 500) instead of being refused.
 Doors refuse an out-of-range id before any query: the API with a 422 naming the parameter (its schema
-states the bounds), the pages with their 404, the command line with a usage error.
+states the bounds: app/api/ids.py), the pages with their 404, the command line with a usage error.
+Nothing here imports the web framework: every command of `trikecert` reads ids through this module.
 """
 
 from __future__ import annotations
 
 import argparse
-from typing import Annotated
-
-from fastapi import Path, Query
 
 MAX_ID = 2**31 - 1
 _MAX_DIGITS = len(str(MAX_ID))
-
-InspectionId = Annotated[
-    int, Path(ge=1, le=MAX_ID, description="The inspection's id, as answered when it was stored.")
-]
-TypeAssessmentId = Annotated[
-    int, Path(ge=1, le=MAX_ID, description="The type assessment's id, as answered when it was stored.")
-]
-StationId = Annotated[int, Path(ge=1, le=MAX_ID, description="The station's id.")]
-UserId = Annotated[int, Path(ge=1, le=MAX_ID, description="The account's id.")]
-PageNumber = Annotated[int, Query(ge=1, le=MAX_ID, description="Which page of the list, from 1.")]
-# A filter's choice of record, where "" means "any": read as text, then by `parse_id`.
-IdChoice = Annotated[str, Query(description="A record's id, or empty for all.")]
 
 
 def parse_id(text: str) -> int | None:

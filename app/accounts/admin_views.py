@@ -20,10 +20,10 @@ from app.accounts.service import (
     set_user_details,
 )
 from app.accounts.sessions import set_flash
+from app.api.ids import UserId
 from app.errors import ServiceError
 from app.i18n.active import gettext as _
 from app.i18n.active import pgettext
-from app.ids import UserId
 from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, secret, text
 from app.web.templating import render

@@ -13,11 +13,11 @@ from app.accounts.deps import ConfirmedAdminPost, PendingLogin, PendingPost
 from app.accounts.service import get_user
 from app.accounts.sessions import set_flash
 from app.accounts.views import safe_next
+from app.api.ids import UserId
 from app.config import get_settings
 from app.errors import ServiceError
 from app.i18n.active import gettext as _
 from app.i18n.active import ngettext
-from app.ids import UserId
 from app.web.deps import FormDep, SessionDep
 from app.web.forms import FormErrors, text
 from app.web.templating import render

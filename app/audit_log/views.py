@@ -12,6 +12,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from app.accounts.deps import AdminLogin
+from app.api.ids import PageNumber
 from app.audit.models import AuditEvent
 from app.audit_log import words
 from app.audit_log.checkpoint import verify_since_checkpoint
@@ -25,7 +26,6 @@ from app.audit_log.service import (
 )
 from app.config import get_settings
 from app.i18n.active import gettext as _
-from app.ids import PageNumber
 from app.web.deps import SessionDep
 from app.web.formatting import day_bounds, local_today, long_date, to_local
 from app.web.forms import FormErrors, query_text, read_date

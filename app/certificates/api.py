@@ -13,6 +13,7 @@ from fastapi import APIRouter, Header, Path, Query, Request, Response, status
 from sqlalchemy.orm import Session
 
 from app.api.errors import error_responses
+from app.api.ids import InspectionId
 from app.certificates.actors import Actor
 from app.certificates.issuer import issuer_of
 from app.certificates.models import Certificate
@@ -25,7 +26,6 @@ from app.certificates.verify_json import api_verification, payload_param
 from app.certificates.wording import in_force, not_on_record, public_status
 from app.config import get_settings
 from app.errors import NotFound
-from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.stations.deps import SessionDep, StationDep
 from app.stations.models import Station

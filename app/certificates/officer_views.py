@@ -11,6 +11,7 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import ConfirmedAdminPost, CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
+from app.api.ids import InspectionId
 from app.certificates.actors import Actor, issued_by, recorded_by
 from app.certificates.facts import Facts
 from app.certificates.models import Certificate
@@ -21,7 +22,6 @@ from app.certificates.views import document_context
 from app.config import get_settings
 from app.errors import ServiceError
 from app.i18n.active import N_
-from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.web.deps import FormDep, SessionDep
 from app.web.formatting import not_recorded

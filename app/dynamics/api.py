@@ -7,6 +7,7 @@ from typing import Annotated
 from fastapi import APIRouter, Query
 
 from app.api.errors import error_responses
+from app.api.ids import InspectionId
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
 from app.dynamics.estimates import inspection_dynamics, lift_inputs
@@ -14,7 +15,6 @@ from app.dynamics.lookups import get_inspection
 from app.dynamics.rounding import case_figures, rounded
 from app.dynamics.schemas import CaseAtSpeedOut, DynamicsInputsOut, DynamicsOut
 from app.errors import InvalidInput
-from app.ids import InspectionId
 from app.stability import StabilityError, case_label
 from app.stability.dynamics import G, at_speed
 from app.stations.deps import SessionDep, StationDep

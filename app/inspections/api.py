@@ -11,11 +11,11 @@ from pydantic import PlainValidator
 from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
 from app.api.fields import Timestamp
+from app.api.ids import InspectionId
 from app.api.openapi import REQUIRED_BODY, as_sent
 from app.api.strict_json import StrictJSONRoute
 from app.dynamics.estimates import inspection_dynamics
 from app.idempotency.http import IdempotencyKeyHeader, idempotent_responses
-from app.ids import InspectionId
 from app.inspections.answer import inspection_answer
 from app.inspections.record import record_of
 from app.inspections.schemas import (

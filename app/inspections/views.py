@@ -13,10 +13,11 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
+from app.api.ids import IdChoice, PageNumber
 from app.config import get_settings
 from app.errors import NotFound, ServiceError
 from app.i18n.active import gettext as _
-from app.ids import IdChoice, PageNumber, parse_id
+from app.ids import parse_id
 from app.inspections.forms import (
     READINGS_PER_WHEEL,
     initial_values,

@@ -7,6 +7,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from app.accounts.deps import CurrentLogin
+from app.api.ids import InspectionId
 from app.certificates.actors import issued_by, recorded_by
 from app.certificates.facts import calibration_words
 from app.certificates.in_force import why_not_issuable
@@ -14,7 +15,6 @@ from app.certificates.languages import paper_language_choices
 from app.certificates.records import certificates_of_inspection
 from app.config import get_settings
 from app.dynamics.presentation import dynamics_context
-from app.ids import InspectionId
 from app.inspections.models import Inspection
 from app.inspections.service import get_inspection
 from app.inspections.views import result_context

@@ -10,9 +10,9 @@ from pydantic import BeforeValidator, WithJsonSchema
 
 from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
+from app.api.ids import InspectionId
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
-from app.ids import InspectionId
 from app.inspections.service import get_inspection
 from app.numbers import LIMITS, POSITION_SCHEMA, ascii_number_text
 from app.remedies.schemas import RemediesOut, remedies_out

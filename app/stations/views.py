@@ -24,11 +24,11 @@ from starlette.responses import RedirectResponse, Response
 from app.accounts.deps import AdminLogin, AdminPost, ConfirmedAdminPost
 from app.accounts.models import UserSession
 from app.accounts.sessions import set_flash
+from app.api.ids import StationId
 from app.config import Settings, get_settings
 from app.errors import ServiceError
 from app.i18n.active import N_, ngettext
 from app.i18n.active import gettext as _
-from app.ids import StationId
 from app.stations.details import MAX_CAPACITY_KG, StationDetails
 from app.stations.models import Station
 from app.stations.service import (

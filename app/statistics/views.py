@@ -11,9 +11,10 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from app.accounts.deps import CurrentLogin
+from app.api.ids import IdChoice
 from app.i18n.active import gettext as _
 from app.i18n.active import pgettext
-from app.ids import IdChoice, parse_id
+from app.ids import parse_id
 from app.stations.models import Station
 from app.statistics.by_model import layout_counts, model_counts
 from app.statistics.service import MAX_DAYS, Period, Statistics, busiest, statistics

@@ -13,9 +13,9 @@ from fastapi import APIRouter, status
 
 from app.api.cross_field import cross_field_rules
 from app.api.errors import error_responses
+from app.api.ids import TypeAssessmentId
 from app.api.strict_json import StrictJSONRoute
 from app.config import get_settings
-from app.ids import TypeAssessmentId
 from app.stations.deps import SessionDep, StationDep
 from app.stations.rate_limit import RATE_LIMITED_RESPONSE
 from app.type_assessments.models import TypeAssessmentRecord

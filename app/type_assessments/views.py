@@ -12,11 +12,11 @@ from starlette.responses import RedirectResponse, Response
 
 from app.accounts.deps import CurrentLogin, PostLogin
 from app.accounts.sessions import set_flash
+from app.api.ids import TypeAssessmentId
 from app.config import get_settings
 from app.errors import ServiceError
 from app.i18n.active import N_
 from app.i18n.active import gettext as _
-from app.ids import TypeAssessmentId
 from app.inspections.models import Inspection
 from app.stability.model import layout_of_rules
 from app.type_assessments.chart import SpreadPoint, spread_chart
