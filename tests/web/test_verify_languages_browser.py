@@ -81,6 +81,8 @@ def test_the_verify_page_fits_a_360_px_phone_in_every_state_and_language(
 ) -> None:
     context = browser.new_context(**{**browser_context_args, "viewport": {"width": WIDTH, "height": 740}})
     target = SCREENSHOTS / "i18n"
+    if TAKE_SCREENSHOTS:
+        target.mkdir(parents=True, exist_ok=True)
     try:
         page = context.new_page()
         for state, number in numbers.items():
@@ -95,7 +97,6 @@ def test_the_verify_page_fits_a_360_px_phone_in_every_state_and_language(
                 assert page.locator("#headline").count() == 1, (state, locale)
                 assert page.locator("html").get_attribute("lang") == ("en-GB" if locale == "en" else locale)
                 if TAKE_SCREENSHOTS:  # the first screen: the banner
-                    target.mkdir(parents=True, exist_ok=True)
                     page.screenshot(path=str(target / f"verify-{state}-{locale}.png"))
                 assert page.evaluate("document.documentElement.scrollWidth") <= WIDTH, (state, locale)
     finally:
