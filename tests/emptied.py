@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
-from sqlalchemy import Connection, Engine, Table, exists, literal, select, union_all
+from functools import cache
+
+from sqlalchemy import CompoundSelect, Connection, Engine, Table, exists, literal, select, union_all
 
 from app.certificates.guard import immutability_lifted
 from app.db import Base
 
 
-def filled_tables(connection: Connection) -> list[Table]:
-    """The tables with at least one row, children before their parents, found in one statement."""
+@cache
+def _every_table_probe() -> tuple[list[Table], CompoundSelect[str]]:
+    """Every table, children before their parents, and the statement naming those with a row, built
+    once: built and keyed anew after every test, it cost 2.0 ms on SQLite where running it costs 0.2."""
     tables = list(reversed(Base.metadata.sorted_tables))
     probes = [select(literal(table.name)).where(exists().select_from(table)) for table in tables]
-    filled = set(connection.scalars(union_all(*probes)))
+    return tables, union_all(*probes)
+
+
+def filled_tables(connection: Connection) -> list[Table]:
+    """The tables with at least one row, children before their parents, found in one statement."""
+    tables, probe = _every_table_probe()
+    filled = set(connection.scalars(probe))
     return [table for table in tables if table.name in filled]
 
 
