@@ -7,7 +7,7 @@ import os
 import socket
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from datetime import date
 from decimal import Decimal
 from pathlib import Path
@@ -17,7 +17,7 @@ import pytest
 import uvicorn
 from fastapi.testclient import TestClient
 from needed_tools import tool_missing
-from playwright.sync_api import Browser, Page
+from playwright.sync_api import Browser, BrowserContext, Page
 from sqlalchemy.orm import Session
 
 from app import config
@@ -29,6 +29,7 @@ from app.stations.models import Station
 from app.stations.service import create_station
 from app.vehicles.models import Vehicle
 from app.vehicles.service import register_vehicle
+from web.kept_contexts import Kept, left_as_new
 from web.webtools import (
     ADMIN_EMAIL,
     AXE_PATH,
@@ -132,12 +133,52 @@ def axe_script() -> Path:
     return AXE_PATH
 
 
+@pytest.fixture(scope="session")
+def kept_contexts(browser: Browser) -> Iterator[dict[str, Kept]]:
+    """The run's kept contexts, one per set of options (`kept_context`)."""
+    kept: dict[str, Kept] = {}
+    yield kept
+    for each in kept.values():
+        each.context.close()
+
+
 @pytest.fixture
-def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterator[Page]:
+def kept_context(
+    browser: Browser,
+    browser_context_args: dict[str, Any],
+    live_server: str,
+    kept_contexts: dict[str, Kept],
+) -> Iterator[Callable[..., BrowserContext]]:
+    """A context with these options, made once per run, and left after each test as a new one starts
+    (tests/web/kept_contexts.py)."""
+    taken: list[Kept] = []
+
+    def take(**options: Any) -> BrowserContext:
+        arguments = {**browser_context_args, **options}
+        key = repr(sorted(arguments.items()))
+        if key not in kept_contexts:
+            context = browser.new_context(**arguments)
+            kept_contexts[key] = Kept(context, context.new_page())
+        kept = kept_contexts[key]
+        if kept not in taken:
+            taken.append(kept)
+        return kept.context
+
+    yield take
+    for kept in taken:
+        left_as_new(kept, live_server)
+
+
+@pytest.fixture
+def context(kept_context: Callable[..., BrowserContext]) -> BrowserContext:
+    """pytest-playwright's context for `page`: a kept one (`kept_context`)."""
+    return kept_context()
+
+
+@pytest.fixture
+def audit_page(kept_context: Callable[..., BrowserContext]) -> Page:
     """A page that may inject axe-core despite the pages' Content-Security-Policy."""
-    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
-    yield context.new_page()
-    context.close()
+    return kept_context(bypass_csp=True).new_page()
 
 
 @pytest.fixture

@@ -6,12 +6,12 @@ docs/screenshots/i18n/verify-STATE-LL.png (a plain run leaves the checkout as it
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from datetime import timedelta
 from decimal import Decimal
-from typing import Any
 
 import pytest
-from playwright.sync_api import Browser
+from playwright.sync_api import BrowserContext
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
@@ -73,31 +73,27 @@ def numbers(session: Session, admin: User, study_vehicle: Vehicle) -> dict[str, 
 
 
 def test_the_verify_page_fits_a_360_px_phone_in_every_state_and_language(
-    browser: Browser,
-    browser_context_args: dict[str, Any],
+    kept_context: Callable[..., BrowserContext],
     numbers: dict[str, str],
     session: Session,
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    context = browser.new_context(**{**browser_context_args, "viewport": {"width": WIDTH, "height": 740}})
+    context = kept_context(viewport={"width": WIDTH, "height": 740})
     target = SCREENSHOTS / "i18n"
     if TAKE_SCREENSHOTS:
         target.mkdir(parents=True, exist_ok=True)
-    try:
-        page = context.new_page()
-        for state, number in numbers.items():
-            if state == "expired":  # only the clock moves on (the live server runs in this process)
-                found = records.find_certificate(session, number)
-                assert found is not None
-                later = found.expires_at + timedelta(seconds=1)
-                for clock in (records, answer_cache):
-                    monkeypatch.setattr(clock, "utcnow", lambda later=later: later)
-            for locale in LOCALES:
-                page.goto(f"/language/{locale}?next=/verify/{number}")
-                assert page.locator("#headline").count() == 1, (state, locale)
-                assert page.locator("html").get_attribute("lang") == ("en-GB" if locale == "en" else locale)
-                if TAKE_SCREENSHOTS:  # the first screen: the banner
-                    page.screenshot(path=str(target / f"verify-{state}-{locale}.png"))
-                assert page.evaluate("document.documentElement.scrollWidth") <= WIDTH, (state, locale)
-    finally:
-        context.close()
+    page = context.new_page()
+    for state, number in numbers.items():
+        if state == "expired":  # only the clock moves on (the live server runs in this process)
+            found = records.find_certificate(session, number)
+            assert found is not None
+            later = found.expires_at + timedelta(seconds=1)
+            for clock in (records, answer_cache):
+                monkeypatch.setattr(clock, "utcnow", lambda later=later: later)
+        for locale in LOCALES:
+            page.goto(f"/language/{locale}?next=/verify/{number}")
+            assert page.locator("#headline").count() == 1, (state, locale)
+            assert page.locator("html").get_attribute("lang") == ("en-GB" if locale == "en" else locale)
+            if TAKE_SCREENSHOTS:  # the first screen: the banner
+                page.screenshot(path=str(target / f"verify-{state}-{locale}.png"))
+            assert page.evaluate("document.documentElement.scrollWidth") <= WIDTH, (state, locale)

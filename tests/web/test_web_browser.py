@@ -5,11 +5,10 @@ sign out and go back, CSRF refusal, a 360-px run, and axe-core on the main pages
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
-from typing import Any
+from collections.abc import Callable
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import BrowserContext, Page, expect
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
@@ -176,12 +175,9 @@ def test_the_skip_link_is_the_first_stop_for_the_keyboard(page: Page, officer: U
 
 
 @pytest.fixture
-def narrow_page(browser: Browser, browser_context_args: dict[str, Any]) -> Iterator[Page]:
+def narrow_page(kept_context: Callable[..., BrowserContext]) -> Page:
     """A phone-sized page, 360 px wide, with JavaScript switched off: every page must work without it."""
-    narrow = {"viewport": {"width": 360, "height": 740}, "java_script_enabled": False}
-    context = browser.new_context(**{**browser_context_args, **narrow})
-    yield context.new_page()
-    context.close()
+    return kept_context(viewport={"width": 360, "height": 740}, java_script_enabled=False).new_page()
 
 
 def no_sideways_scroll(page: Page, url: str | re.Pattern[str]) -> None:

@@ -7,10 +7,9 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Page, expect
 
 from app.accounts.models import User
 from app.vehicles.models import Vehicle
@@ -32,12 +31,6 @@ FIGURES = {
     "#drag_area_m2": "1.6",
     "#centre_of_pressure_height_m": "0.900",
 }
-
-
-@pytest.fixture
-def audit_page(browser: Browser, browser_context_args: dict[str, Any]) -> Page:
-    """A page that may inject axe-core despite the pages' Content-Security-Policy."""
-    return browser.new_context(**{**browser_context_args, "bypass_csp": True}).new_page()
 
 
 def test_an_officer_reads_the_rollover_estimates_and_the_stability_map(

@@ -4,11 +4,11 @@ axe-clean; with TRIKECERT_SCREENSHOTS=1 the section is saved as docs/screenshots
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, expect
+from playwright.sync_api import BrowserContext, expect
 from sqlalchemy.orm import Session
 
 from app.accounts.models import User
@@ -23,8 +23,7 @@ SCREENSHOTS = REPO / "docs" / "screenshots"
 
 
 def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
-    browser: Browser,
-    browser_context_args: dict[str, Any],
+    kept_context: Callable[..., BrowserContext],
     session: Session,
     study_vehicle: Vehicle,
     officer: User,
@@ -36,8 +35,7 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
         request=InspectionRequest(registration_number="BDG252QH", readings=readings),
         rules=get_settings().rules(),
     )
-    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
-    page = context.new_page()
+    page = kept_context(bypass_csp=True).new_page()
     page.goto("/login")
     page.get_by_label("Email address").fill(OFFICER_EMAIL)
     page.get_by_label("Password").fill(PASSWORD)
@@ -80,4 +78,3 @@ def test_the_study_vehicles_page_shows_the_remedies_and_the_chart(
     expect(page.locator("#ballast_x_m-error")).to_be_visible()
     expect(page.get_by_label("Ballast position (m)")).to_have_value("far back")
     assert axe_violations(page, axe_script) == []
-    context.close()

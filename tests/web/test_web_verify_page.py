@@ -19,7 +19,7 @@ from urllib.parse import quote
 
 import pytest
 from fastapi.testclient import TestClient
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import BrowserContext, Page, expect
 from sqlalchemy.orm import Session
 from study_data import STUDY_READINGS, STUDY_VEHICLE
 
@@ -291,13 +291,11 @@ def shoot(page: Page, name: str, width: int) -> None:
 
 
 def test_the_verify_pages_have_no_axe_violations(
-    browser: Browser,
-    browser_context_args: dict[str, Any],
+    kept_context: Callable[..., BrowserContext],
     documents: dict[str, dict[str, Any]],
     axe_script: Path,
 ) -> None:
-    context = browser.new_context(**{**browser_context_args, "bypass_csp": True})
-    page = context.new_page()
+    page = kept_context(bypass_csp=True).new_page()
     found: dict[str, list[dict[str, Any]]] = {}
     valid, refusal = documents["certified"], documents["refusal"]
     urls = {name: path_of(document["qr_url"]) for name, document in documents.items()}
@@ -307,5 +305,4 @@ def test_the_verify_pages_have_no_axe_violations(
         page.goto(url)
         if violations := axe_violations(page, axe_script):
             found[name] = violations
-    context.close()
     assert found == {}, found
