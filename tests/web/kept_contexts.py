@@ -1,5 +1,5 @@
 """Browser contexts kept for the run: a new context starts a renderer process and compiles Playwright's
-scripts in it again (0.9 core-s a test on two cores), so the page tests that need no fresh phone take
+scripts in it again (~0.9 core-s a test here), so the page tests that need no fresh phone take
 a kept one, left after each test as a new one starts."""
 
 from __future__ import annotations

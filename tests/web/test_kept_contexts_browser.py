@@ -20,7 +20,8 @@ def test_what_a_test_leaves_in_a_kept_context_is_gone_for_the_next(
     context = kept_context(viewport=LEFT)
     page = context.new_page()
     page.goto("/check/")  # the offline checker: its service worker registers
-    page.wait_for_function("navigator.serviceWorker.getRegistrations().then(found => found.length === 1)")
+    registered = "navigator.serviceWorker.ready.then(() => navigator.serviceWorker.getRegistrations())"
+    assert page.evaluate(f"{registered}.then(found => found.length)") == 1
     page.evaluate("localStorage.setItem('left', 'behind'); document.cookie = 'left=behind; path=/'")
     assert "left" in {cookie["name"] for cookie in context.cookies()}
 
