@@ -11,7 +11,7 @@ import anyio.to_thread
 from fastapi import FastAPI
 
 import app.models  # noqa: F401  (every table known to the mapper, whichever route loads first)
-from app import __version__
+from app import GC_THRESHOLDS_FOUND, __version__
 from app.api.errors import install_error_handlers
 from app.api.limits import BodySizeLimit
 from app.certificates.kept_door import KeptAnswersFirst
@@ -102,4 +102,5 @@ def create_served_app() -> FastAPI:
     # apps, and what a freeze holds is never collected.
     gc.collect()
     gc.freeze()
+    gc.set_threshold(*GC_THRESHOLDS_FOUND)  # raised while the app was imported (app/__init__.py)
     return served
