@@ -108,7 +108,10 @@ def live_server(database_url: str) -> Iterator[str]:
 def chromium() -> str:
     """Debian's Chromium; missing, every browser test is skipped saying so (a failure on CI)."""
     if not os.access(CHROMIUM, os.X_OK):
-        tool_missing(f"Chromium ({CHROMIUM})", "apt-get install chromium, or set TRIKECERT_CHROMIUM")
+        tool_missing(
+            f"Chromium ({CHROMIUM})",
+            "apt-get install chromium-headless-shell (or chromium), or set TRIKECERT_CHROMIUM",
+        )
     return CHROMIUM
 
 

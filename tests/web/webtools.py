@@ -38,7 +38,13 @@ STUDY_READINGS = {
 }
 
 REPO = Path(__file__).resolve().parents[2]
-CHROMIUM = os.environ.get("TRIKECERT_CHROMIUM", "/usr/bin/chromium")
+# Debian's headless shell (the package chromium-headless-shell, built from the same source as its
+# chromium, the build Playwright itself runs headless) where it is installed: the same pages at two
+# thirds of the full browser's CPU (measured: bench/RESULTS.md, issue 26, 2026-12-06). Else chromium.
+HEADLESS_SHELL = "/usr/bin/chromium-headless-shell"
+CHROMIUM = os.environ.get(
+    "TRIKECERT_CHROMIUM", HEADLESS_SHELL if os.access(HEADLESS_SHELL, os.X_OK) else "/usr/bin/chromium"
+)
 CHROMIUM_ARGS = [
     "--headless",
     "--no-sandbox",
