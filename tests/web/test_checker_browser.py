@@ -406,6 +406,32 @@ def camera(
     browser.close()
 
 
+CAMERA_STATE = """() => {
+    const video = document.getElementById('camera');
+    return {
+        problem_shown: !document.getElementById('camera-problem').hidden,
+        video_shown: !video.hidden, ready_state: video.readyState, width: video.videoWidth,
+        status: document.getElementById('status').dataset.code ?? null,
+    };
+}"""
+
+
+def camera_verdict(page: Page, code: str) -> None:
+    """`verdict` after the camera started; if it fails, what the camera and the page showed then
+    (printed: pytest shows it beside the failure, with the page's console)."""
+    try:
+        verdict(page, code)
+    except AssertionError:
+        print("camera and page when the verdict was not shown:", page.evaluate(CAMERA_STATE))
+        raise
+
+
+def console_printed(page: Page) -> None:
+    """The page's console messages and uncaught errors, printed as they come."""
+    page.on("console", lambda message: print(f"console {message.type}: {message.text}"))
+    page.on("pageerror", lambda error: print(f"page error: {error}"))
+
+
 @pytest.mark.parametrize("code", PICTURED)
 def test_offline_by_the_camera(
     code: str,
@@ -425,10 +451,11 @@ def test_offline_by_the_camera(
     guard.watch(context)
     try:
         page = context.new_page()
+        console_printed(page)
         load_then_cut(context, page)
         made = made_at(page)
         page.locator("#camera-start").click()
-        verdict(page, code)
+        camera_verdict(page, code)
         expect(page.locator("#camera")).to_be_hidden()  # the camera is let go once a code is read
         if code == "certified":
             paper_shown(page, papers.certificate, made)
@@ -436,10 +463,10 @@ def test_offline_by_the_camera(
             max_age: int = bundle_payload(held_text(page))["max_age"]
             page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
             page.locator("#camera-start").click()
-            verdict(page, "stale")
+            camera_verdict(page, "stale")
             page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
             page.locator("#camera-start").click()
-            verdict(page, "clock_behind")
+            camera_verdict(page, "clock_behind")
     finally:
         context.close()
 
