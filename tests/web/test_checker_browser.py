@@ -471,6 +471,32 @@ def test_offline_by_the_camera(
         context.close()
 
 
+# A camera frame of a worn print (another run's paper, so its key is unknown here) that jsQR reads at
+# 480-600 pixels wide but not at 640 or 450, the only sizes the camera once tried: found among 1,734
+# worn prints (stop 45), it left the camera looking for ever.
+UNREAD_AT_TWO_SIZES = Path(__file__).parent / "pictures" / "camera-frame-unread-at-640-and-450.png"
+
+
+def test_a_camera_held_still_reads_a_print_that_one_size_misses(
+    camera: Camera, browser_context_args: dict[str, Any], guard: Guard, tmp_path: Path
+) -> None:
+    """The same frame again and again, as from a phone held still: each look tries another size."""
+    played = y4m(Image.open(UNREAD_AT_TWO_SIZES).convert("RGB"), tmp_path / "camera.y4m")
+    played.replace(camera.video)
+    context = camera.browser.new_context(
+        **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
+    )
+    guard.watch(context)
+    try:
+        page = context.new_page()
+        console_printed(page)
+        load_then_cut(context, page)
+        page.locator("#camera-start").click()
+        camera_verdict(page, "unknown_key")
+    finally:
+        context.close()
+
+
 def test_the_scripts_verify_with_webcrypto_and_with_the_vendored_library(
     phone: BrowserContext, papers: Papers
 ) -> None:

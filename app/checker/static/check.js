@@ -163,11 +163,21 @@ async function check(text) {
 
 // ---- three ways to read the code ----------------------------------------------------------------
 
-function decodeImage(source, width, height) {
+const LARGEST = 1600; // pixels on the longest side that jsQR is given at most
+
+// A phone's photo is large and a worn print blurred: it is tried smaller too, where jsQR finds more.
+function photoSizes(longest) {
+  return [Math.min(longest, LARGEST), 1000, 700, 450].filter((target) => target <= longest);
+}
+
+// A camera held still over a worn print sends the same picture frame after frame, and jsQR reads a
+// picture at some sizes and not at others (about 1 worn print in 1,700 at neither 640 nor 450 pixels):
+// each look tries the frame at the next of these fractions of its longest side (at most LARGEST).
+const CAMERA_SIZES = [1, 0.875, 0.7, 0.8125, 0.75];
+
+function decodeImage(source, width, height, sizes) {
   const longest = Math.max(width, height);
-  // A phone's photo is large and a worn print blurred: try it smaller too, where jsQR finds more.
-  for (const target of [Math.min(longest, 1600), 1000, 700, 450]) {
-    if (target > longest) continue;
+  for (const target of sizes) {
     const scale = target / longest;
     const canvas = document.createElement("canvas");
     canvas.width = Math.round(width * scale);
@@ -191,7 +201,7 @@ async function detector() {
   }
 }
 
-async function readPicture(source, width, height) {
+async function readPicture(source, width, height, sizes) {
   const native = await detector();
   if (native) {
     try {
@@ -201,7 +211,7 @@ async function readPicture(source, width, height) {
       // fall through to jsQR
     }
   }
-  return decodeImage(source, width, height);
+  return decodeImage(source, width, height, sizes);
 }
 
 async function onPhoto(event) {
@@ -211,7 +221,7 @@ async function onPhoto(event) {
   let text = null;
   try {
     const bitmap = await createImageBitmap(file);
-    text = await readPicture(bitmap, bitmap.width, bitmap.height);
+    text = await readPicture(bitmap, bitmap.width, bitmap.height, photoSizes(Math.max(bitmap.width, bitmap.height)));
     bitmap.close();
   } catch {
     text = null;
@@ -249,10 +259,13 @@ async function startCamera() {
   $("camera-start").hidden = true;
   $("camera-stop").hidden = false;
   await video.play().catch(() => {});
+  let looks = 0;
   const look = async () => {
     if (!camera.stream) return;
     if (video.videoWidth) {
-      const text = await readPicture(video, video.videoWidth, video.videoHeight);
+      const longest = Math.min(Math.max(video.videoWidth, video.videoHeight), LARGEST);
+      const size = Math.round(longest * CAMERA_SIZES[looks++ % CAMERA_SIZES.length]);
+      const text = await readPicture(video, video.videoWidth, video.videoHeight, [size]);
       if (text !== null) {
         stopCamera();
         await check(text);
