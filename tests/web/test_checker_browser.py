@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -411,14 +412,15 @@ CAMERA_STATE = """() => {
     return {
         problem_shown: !document.getElementById('camera-problem').hidden,
         video_shown: !video.hidden, ready_state: video.readyState, width: video.videoWidth,
-        status: document.getElementById('status').dataset.code ?? null,
+        status: document.getElementById('status')?.dataset.code ?? null,
     };
 }"""
 
 
-def camera_verdict(page: Page, code: str) -> None:
-    """`verdict` after the camera started; if it fails, what the camera and the page showed then
+def camera_reads(page: Page, code: str) -> None:
+    """The camera started, then `verdict`; if it fails, what the camera and the page showed then
     (printed: pytest shows it beside the failure, with the page's console)."""
+    page.locator("#camera-start").click()
     try:
         verdict(page, code)
     except AssertionError:
@@ -432,6 +434,24 @@ def console_printed(page: Page) -> None:
     page.on("pageerror", lambda error: print(f"page error: {error}"))
 
 
+@contextmanager
+def camera_page(
+    camera: Camera, frame: Image.Image, folder: Path, context_args: dict[str, Any], guard: Guard
+) -> Iterator[Page]:
+    """A phone's /check page, loaded online then cut off, whose camera plays `frame`; closed after."""
+    played = y4m(frame, folder / "camera.y4m")
+    played.replace(camera.video)  # whole, at once: the camera never reads half a file
+    context = camera.browser.new_context(**{**context_args, "viewport": PHONE, "permissions": ["camera"]})
+    guard.watch(context)
+    try:
+        page = context.new_page()
+        console_printed(page)
+        load_then_cut(context, page)
+        yield page
+    finally:
+        context.close()
+
+
 @pytest.mark.parametrize("code", PICTURED)
 def test_offline_by_the_camera(
     code: str,
@@ -443,32 +463,19 @@ def test_offline_by_the_camera(
     tmp_path: Path,
 ) -> None:
     """Chromium's fake camera plays the worn picture framed as a phone held over the code would."""
-    played = y4m(qr_region(picture(api, papers, code, tmp_path)), tmp_path / "camera.y4m")
-    played.replace(camera.video)  # whole, at once: the camera never reads half a file
-    context = camera.browser.new_context(
-        **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
-    )
-    guard.watch(context)
-    try:
-        page = context.new_page()
-        console_printed(page)
-        load_then_cut(context, page)
+    frame = qr_region(picture(api, papers, code, tmp_path))
+    with camera_page(camera, frame, tmp_path, browser_context_args, guard) as page:
         made = made_at(page)
-        page.locator("#camera-start").click()
-        camera_verdict(page, code)
+        camera_reads(page, code)
         expect(page.locator("#camera")).to_be_hidden()  # the camera is let go once a code is read
         if code == "certified":
             paper_shown(page, papers.certificate, made)
             shoot(page, "camera-certified")
             max_age: int = bundle_payload(held_text(page))["max_age"]
             page.clock.set_fixed_time(datetime.fromtimestamp(made + max_age + 60, UTC))
-            page.locator("#camera-start").click()
-            camera_verdict(page, "stale")
+            camera_reads(page, "stale")
             page.clock.set_fixed_time(datetime.fromtimestamp(made - 2 * HOURS, UTC))
-            page.locator("#camera-start").click()
-            camera_verdict(page, "clock_behind")
-    finally:
-        context.close()
+            camera_reads(page, "clock_behind")
 
 
 # A camera frame of a worn print (another run's paper, so its key is unknown here) that jsQR reads at
@@ -481,20 +488,9 @@ def test_a_camera_held_still_reads_a_print_that_one_size_misses(
     camera: Camera, browser_context_args: dict[str, Any], guard: Guard, tmp_path: Path
 ) -> None:
     """The same frame again and again, as from a phone held still: each look tries another size."""
-    played = y4m(Image.open(UNREAD_AT_TWO_SIZES).convert("RGB"), tmp_path / "camera.y4m")
-    played.replace(camera.video)
-    context = camera.browser.new_context(
-        **{**browser_context_args, "viewport": PHONE, "permissions": ["camera"]}
-    )
-    guard.watch(context)
-    try:
-        page = context.new_page()
-        console_printed(page)
-        load_then_cut(context, page)
-        page.locator("#camera-start").click()
-        camera_verdict(page, "unknown_key")
-    finally:
-        context.close()
+    frame = Image.open(UNREAD_AT_TWO_SIZES).convert("RGB")
+    with camera_page(camera, frame, tmp_path, browser_context_args, guard) as page:
+        camera_reads(page, "unknown_key")
 
 
 def test_the_scripts_verify_with_webcrypto_and_with_the_vendored_library(
