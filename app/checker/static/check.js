@@ -221,7 +221,8 @@ async function onPhoto(event) {
   let text = null;
   try {
     const bitmap = await createImageBitmap(file);
-    text = await readPicture(bitmap, bitmap.width, bitmap.height, photoSizes(Math.max(bitmap.width, bitmap.height)));
+    const sizes = photoSizes(Math.max(bitmap.width, bitmap.height));
+    text = await readPicture(bitmap, bitmap.width, bitmap.height, sizes);
     bitmap.close();
   } catch {
     text = null;
